@@ -1,0 +1,635 @@
+//! Run configuration: every tunable with its default, unit and allowed range.
+//!
+//! The configuration is TOML. Every key is optional; the defaults reproduce the NGSolve tutorial
+//! "FEM Pendulum: Basics". Unknown keys are errors (serde `deny_unknown_fields`), and every value
+//! is range-checked by [`Config::validate`], whose messages name the key (`mesh.max_size`) and the
+//! allowed range. Overrides from the command line (`--set mesh.max_size=0.01`) are merged into the
+//! TOML document before it is deserialised, so they are checked exactly like file values.
+//!
+//! All quantities are SI: metres, kilograms, seconds, pascals, newtons, radians unless a key says
+//! `_deg`.
+
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+use crate::error::Error;
+
+/// The whole configuration, one section per pipeline stage.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Config {
+    /// Shape of the pendulum.
+    pub geometry: Geometry,
+    /// Mesh sizes and element order.
+    pub mesh: MeshConfig,
+    /// Constitutive law and its parameters.
+    pub material: Material,
+    /// Gravity.
+    pub gravity: Gravity,
+    /// Initial state.
+    pub initial: Initial,
+    /// Time stepping.
+    pub time: Time,
+    /// Newton solver.
+    pub solver: Solver,
+    /// Actuator torque at the pivot.
+    pub torque: Torque,
+    /// What a run writes.
+    pub output: Output,
+}
+
+/// Pendulum geometry (the tutorial's `r_rod`, `r_head`, `r_hole`, `l_center`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Geometry {
+    /// Half-width of the rod \[m\].
+    pub rod_half_width: f64,
+    /// Outer radius of the head \[m\].
+    pub head_radius: f64,
+    /// Radius of the hole in the head \[m\]; 0 means no hole.
+    pub hole_radius: f64,
+    /// Distance from the pivot to the head centre \[m\].
+    pub head_center_distance: f64,
+    /// Out-of-plane thickness \[m\].
+    pub thickness: f64,
+}
+
+impl Default for Geometry {
+    fn default() -> Self {
+        Self { rod_half_width: 0.015, head_radius: 0.06, hole_radius: 0.03, head_center_distance: 0.24, thickness: 0.01 }
+    }
+}
+
+/// Mesh sizes. The local sizes default to the tutorial's fractions of the geometry.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MeshConfig {
+    /// Global maximum element size \[m\].
+    pub max_size: f64,
+    /// Geometric order: 1 (straight-sided) or 2 (curved six-node triangles on the circles).
+    pub order: u32,
+    /// Size in the rod \[m\]; default `rod_half_width / 2`.
+    pub rod_size: Option<f64>,
+    /// Size in the head \[m\]; default `head_radius / 5`.
+    pub head_size: Option<f64>,
+    /// Size along the hinge edge \[m\]; default `rod_half_width / 10`.
+    pub hinge_edge_size: Option<f64>,
+    /// Size at the two hinge corners \[m\]; default `rod_half_width / 20`.
+    pub hinge_corner_size: Option<f64>,
+    /// Size along the head and hole circles \[m\]; default `head_radius / 20`.
+    pub circle_edge_size: Option<f64>,
+    /// Growth rate of the size away from small features (Netgen's `grading`), 0.05 to 1.
+    pub grading: f64,
+}
+
+impl Default for MeshConfig {
+    fn default() -> Self {
+        Self {
+            max_size: 0.03,
+            order: 2,
+            rod_size: None,
+            head_size: None,
+            hinge_edge_size: None,
+            hinge_corner_size: None,
+            circle_edge_size: None,
+            grading: 0.3,
+        }
+    }
+}
+
+/// Local mesh sizes with the geometry-derived defaults filled in \[m\].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshSizes {
+    /// Global maximum.
+    pub max_size: f64,
+    /// In the rod.
+    pub rod: f64,
+    /// In the head.
+    pub head: f64,
+    /// Along the hinge edge.
+    pub hinge_edge: f64,
+    /// At the hinge corners.
+    pub hinge_corner: f64,
+    /// Along the circles.
+    pub circle_edge: f64,
+    /// Growth rate away from small features.
+    pub grading: f64,
+}
+
+impl Config {
+    /// The local mesh sizes, with defaults derived from the geometry as in the tutorial.
+    pub fn mesh_sizes(&self) -> MeshSizes {
+        let g = &self.geometry;
+        let m = &self.mesh;
+        MeshSizes {
+            max_size: m.max_size,
+            rod: m.rod_size.unwrap_or(g.rod_half_width / 2.0),
+            head: m.head_size.unwrap_or(g.head_radius / 5.0),
+            hinge_edge: m.hinge_edge_size.unwrap_or(g.rod_half_width / 10.0),
+            hinge_corner: m.hinge_corner_size.unwrap_or(g.rod_half_width / 20.0),
+            circle_edge: m.circle_edge_size.unwrap_or(g.head_radius / 20.0),
+            grading: m.grading,
+        }
+    }
+}
+
+/// Constitutive model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MaterialModel {
+    /// The tutorial's compressible Neo-Hookean law, `ψ = μ/2 (tr C − 2) + μ²/λ (det C^(−λ/2μ) − 1)`.
+    NeoHookean,
+    /// St. Venant–Kirchhoff, `ψ = λ/2 (tr E)² + μ tr(E²)`.
+    SaintVenantKirchhoff,
+}
+
+/// Two-dimensional reduction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Plane {
+    /// Thin plate, `σ_zz = 0`: `λ* = Eν/(1 − ν²)`.
+    Stress,
+    /// Long body, `ε_zz = 0`: `λ = Eν/((1 + ν)(1 − 2ν))`.
+    Strain,
+}
+
+/// Material parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Material {
+    /// Constitutive model.
+    pub model: MaterialModel,
+    /// Young's modulus \[Pa\].
+    pub youngs_modulus: f64,
+    /// Poisson's ratio \[-\].
+    pub poisson_ratio: f64,
+    /// Mass density \[kg/m³\].
+    pub density: f64,
+    /// Plane stress or plane strain.
+    pub plane: Plane,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            model: MaterialModel::NeoHookean,
+            youngs_modulus: 2.1e11,
+            poisson_ratio: 0.3,
+            density: 7800.0,
+            plane: Plane::Stress,
+        }
+    }
+}
+
+impl Material {
+    /// Lamé parameters `(λ, μ)` of the 2-D model \[Pa\] (plane stress uses `λ*`).
+    pub fn lame(&self) -> (f64, f64) {
+        let (e, nu) = (self.youngs_modulus, self.poisson_ratio);
+        let mu = e / (2.0 * (1.0 + nu));
+        let lambda = match self.plane {
+            Plane::Stress => e * nu / (1.0 - nu * nu),
+            Plane::Strain => e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+        };
+        (lambda, mu)
+    }
+}
+
+/// Gravity along −y.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Gravity {
+    /// Magnitude \[m/s²\]; 0 switches gravity off.
+    pub g: f64,
+}
+
+impl Default for Gravity {
+    fn default() -> Self {
+        Self { g: 9.81 }
+    }
+}
+
+/// How the initial acceleration is chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum InitialAcceleration {
+    /// Rigid-body acceleration `α₀ e_z × r − ω₀² r`, `α₀` from the torque balance about the pivot.
+    Rigid,
+    /// Zero, exactly as the tutorial starts.
+    Zero,
+}
+
+/// Initial state: a rigid rotation about the pivot.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Initial {
+    /// Initial angle \[deg\], counter-clockwise from hanging straight down.
+    pub angle_deg: f64,
+    /// Initial angular velocity \[rad/s\].
+    pub angular_velocity: f64,
+    /// Initial acceleration field.
+    pub acceleration: InitialAcceleration,
+}
+
+impl Default for Initial {
+    fn default() -> Self {
+        Self { angle_deg: 20.0, angular_velocity: 0.0, acceleration: InitialAcceleration::Rigid }
+    }
+}
+
+/// Time stepping.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Time {
+    /// Time step \[s\].
+    pub dt: f64,
+    /// End time \[s\].
+    pub end: f64,
+}
+
+impl Default for Time {
+    fn default() -> Self {
+        Self { dt: 0.01, end: 1.0 }
+    }
+}
+
+impl Time {
+    /// Number of steps, `round(end / dt)`.
+    pub fn steps(&self) -> usize {
+        (self.end / self.dt).round() as usize
+    }
+}
+
+/// Newton solver settings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Solver {
+    /// Convergence threshold on the energy norm of the Newton update, `|Δuᵀ r|` \[J\].
+    pub tolerance: f64,
+    /// Newton iterations allowed per step.
+    pub max_iterations: usize,
+    /// How often a failed step may be halved and retried.
+    pub max_cutbacks: usize,
+}
+
+impl Default for Solver {
+    fn default() -> Self {
+        Self { tolerance: 1e-6, max_iterations: 20, max_cutbacks: 6 }
+    }
+}
+
+/// Time profile of the actuator torque.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TorqueProfile {
+    /// No torque.
+    None,
+    /// `M = amplitude` for all times.
+    Constant,
+    /// `M = amplitude` from `start` on, 0 before.
+    Step,
+    /// Linear rise from 0 at `start` to `amplitude` at `start + duration`, constant after.
+    Ramp,
+    /// `M = amplitude sin(2π frequency (t − start) + phase)` from `start` on.
+    Sine,
+    /// Linear interpolation in a CSV table `time_s,torque_Nm`.
+    Table,
+}
+
+/// Actuator torque at the pivot.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Torque {
+    /// Time profile.
+    pub profile: TorqueProfile,
+    /// Amplitude \[N·m\], counter-clockwise positive.
+    pub amplitude: f64,
+    /// Start time \[s\].
+    pub start: f64,
+    /// Rise time of the ramp \[s\].
+    pub duration: f64,
+    /// Frequency of the sine \[Hz\].
+    pub frequency: f64,
+    /// Phase of the sine \[rad\].
+    pub phase: f64,
+    /// CSV table for `profile = "table"`.
+    pub file: Option<PathBuf>,
+    /// `true`: the load turns with the body (pure torque at every angle); `false`: fixed direction.
+    pub follower: bool,
+}
+
+impl Default for Torque {
+    fn default() -> Self {
+        Self {
+            profile: TorqueProfile::None,
+            amplitude: 0.0,
+            start: 0.0,
+            duration: 0.0,
+            frequency: 0.0,
+            phase: 0.0,
+            file: None,
+            follower: true,
+        }
+    }
+}
+
+/// What a run writes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Output {
+    /// Output folder; each run gets a fresh subfolder unless `--out` names one.
+    pub dir: PathBuf,
+    /// Write every n-th step to the frame outputs (ParaView, animation, viewer).
+    pub every: usize,
+    /// Magnification of the elastic part of the displacement in pictures; `None`: automatic.
+    pub magnification: Option<f64>,
+    /// Write `theta.png` and `energy.png`.
+    pub plots: bool,
+    /// Write `displacement.gif` and `von_mises.gif`.
+    pub animation: bool,
+    /// Write `pendulum.pvd` and `frames/step_NNNNN.vtu`.
+    pub paraview: bool,
+    /// Write `viewer.html`.
+    pub viewer: bool,
+    /// Upper bound on frames in the animations and the viewer (frames are thinned to fit).
+    pub max_frames: usize,
+}
+
+impl Default for Output {
+    fn default() -> Self {
+        Self {
+            dir: PathBuf::from("results"),
+            every: 1,
+            magnification: None,
+            plots: true,
+            animation: true,
+            paraview: true,
+            viewer: true,
+            max_frames: 200,
+        }
+    }
+}
+
+impl Config {
+    /// Reads a configuration file (or the defaults when `path` is `None`) and applies
+    /// `key=value` overrides, then validates.
+    pub fn load(path: Option<&Path>, overrides: &[String]) -> Result<Self, Error> {
+        let mut doc = match path {
+            Some(p) => {
+                let text = std::fs::read_to_string(p)
+                    .map_err(|e| Error::Config(format!("cannot read config file {}: {e}", p.display())))?;
+                text.parse::<toml::Table>()
+                    .map_err(|e| Error::Config(format!("config file {}: {e}", p.display())))?
+            }
+            None => toml::Table::new(),
+        };
+        for o in overrides {
+            apply_override(&mut doc, o)?;
+        }
+        let source = path.map(|p| p.display().to_string()).unwrap_or_else(|| "--set".into());
+        let cfg: Config = Config::deserialize(toml::Value::Table(doc))
+            .map_err(|e| Error::Config(format!("{source}: {}", e.to_string().trim())))?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// Parses TOML text (no overrides) and validates.
+    pub fn from_toml_str(text: &str) -> Result<Self, Error> {
+        let cfg: Config = toml::from_str(text).map_err(|e| Error::Config(e.to_string().trim().to_string()))?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// Checks every value against its allowed range; the message names the key.
+    pub fn validate(&self) -> Result<(), Error> {
+        let g = &self.geometry;
+        positive("geometry.rod_half_width", g.rod_half_width, "m")?;
+        positive("geometry.head_radius", g.head_radius, "m")?;
+        non_negative("geometry.hole_radius", g.hole_radius, "m")?;
+        positive("geometry.head_center_distance", g.head_center_distance, "m")?;
+        positive("geometry.thickness", g.thickness, "m")?;
+        if g.hole_radius >= g.head_radius {
+            return Err(range(
+                "geometry.hole_radius",
+                g.hole_radius,
+                &format!("0 <= hole_radius < head_radius = {} m (the hole must lie inside the head)", g.head_radius),
+            ));
+        }
+        if g.rod_half_width >= g.head_radius {
+            return Err(range(
+                "geometry.rod_half_width",
+                g.rod_half_width,
+                &format!("0 < rod_half_width < head_radius = {} m (the rod must be narrower than the head)", g.head_radius),
+            ));
+        }
+        if g.hole_radius > 0.0 && g.rod_half_width >= g.hole_radius {
+            // the rod would reach into the hole's circle only if it ends beyond the head boundary;
+            // that is checked below. A rod wider than the hole is allowed.
+        }
+        // The rod [−r, r] × [0, l] must reach into the head disc and must not end inside the hole:
+        // its end meets the head circle at distance l − sqrt(R² − r²) from the pivot, which must be > 0,
+        // and the rod end (the head centre) lies in the hole, so the rod's sides must meet the head ring
+        // outside the hole: sqrt(R² − r²) > sqrt(max(h² − r², 0)) holds whenever R > h.
+        let reach = (g.head_radius * g.head_radius - g.rod_half_width * g.rod_half_width).sqrt();
+        if g.head_center_distance <= reach {
+            return Err(range(
+                "geometry.head_center_distance",
+                g.head_center_distance,
+                &format!(
+                    "head_center_distance > sqrt(head_radius² − rod_half_width²) = {reach:.6} m \
+                     (the head would swallow the pivot; the rod must have a free length)"
+                ),
+            ));
+        }
+        let m = &self.mesh;
+        positive("mesh.max_size", m.max_size, "m")?;
+        if !(m.order == 1 || m.order == 2) {
+            return Err(Error::Config(format!("mesh.order = {}: allowed values are 1 and 2", m.order)));
+        }
+        for (key, v) in [
+            ("mesh.rod_size", m.rod_size),
+            ("mesh.head_size", m.head_size),
+            ("mesh.hinge_edge_size", m.hinge_edge_size),
+            ("mesh.hinge_corner_size", m.hinge_corner_size),
+            ("mesh.circle_edge_size", m.circle_edge_size),
+        ] {
+            if let Some(v) = v {
+                positive(key, v, "m")?;
+            }
+        }
+        within("mesh.grading", m.grading, 0.05, 1.0, "")?;
+        let sizes = self.mesh_sizes();
+        let smallest = [sizes.max_size, sizes.rod, sizes.head, sizes.hinge_edge, sizes.hinge_corner, sizes.circle_edge]
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        let scale = g.head_center_distance + g.head_radius;
+        if smallest < scale * 1e-5 {
+            return Err(Error::Config(format!(
+                "mesh sizes: the smallest local size {smallest:e} m is below 1e-5 × the pendulum length ({:e} m); \
+                 allowed: sizes >= {:e} m",
+                scale,
+                scale * 1e-5
+            )));
+        }
+        let mat = &self.material;
+        positive("material.youngs_modulus", mat.youngs_modulus, "Pa")?;
+        let nu_max = match mat.plane {
+            Plane::Stress => 0.5,
+            Plane::Strain => 0.5,
+        };
+        if !(mat.poisson_ratio > -1.0 && mat.poisson_ratio < nu_max) {
+            return Err(range("material.poisson_ratio", mat.poisson_ratio, "-1 < poisson_ratio < 0.5"));
+        }
+        if mat.model == MaterialModel::NeoHookean && mat.poisson_ratio <= 0.0 {
+            return Err(range(
+                "material.poisson_ratio",
+                mat.poisson_ratio,
+                "0 < poisson_ratio < 0.5 for the neo-hookean model (its energy divides by λ)",
+            ));
+        }
+        positive("material.density", mat.density, "kg/m^3")?;
+        non_negative("gravity.g", self.gravity.g, "m/s^2")?;
+        within("initial.angle_deg", self.initial.angle_deg, -360.0, 360.0, "deg")?;
+        finite("initial.angular_velocity", self.initial.angular_velocity)?;
+        positive("time.dt", self.time.dt, "s")?;
+        non_negative("time.end", self.time.end, "s")?;
+        if self.time.end > 0.0 && self.time.dt > self.time.end {
+            return Err(range("time.dt", self.time.dt, &format!("0 < dt <= time.end = {} s", self.time.end)));
+        }
+        if self.time.steps() > 10_000_000 {
+            return Err(Error::Config(format!(
+                "time.end / time.dt = {:.0} steps: at most 10000000 steps are allowed",
+                self.time.end / self.time.dt
+            )));
+        }
+        let s = &self.solver;
+        if !(s.tolerance > 0.0 && s.tolerance.is_finite()) {
+            return Err(range("solver.tolerance", s.tolerance, "tolerance > 0 (J)"));
+        }
+        if !(1..=1000).contains(&s.max_iterations) {
+            return Err(Error::Config(format!(
+                "solver.max_iterations = {}: allowed range 1 to 1000",
+                s.max_iterations
+            )));
+        }
+        if s.max_cutbacks > 30 {
+            return Err(Error::Config(format!("solver.max_cutbacks = {}: allowed range 0 to 30", s.max_cutbacks)));
+        }
+        let t = &self.torque;
+        finite("torque.amplitude", t.amplitude)?;
+        non_negative("torque.start", t.start, "s")?;
+        non_negative("torque.duration", t.duration, "s")?;
+        non_negative("torque.frequency", t.frequency, "Hz")?;
+        finite("torque.phase", t.phase)?;
+        if t.profile == TorqueProfile::Ramp && t.duration <= 0.0 {
+            return Err(range("torque.duration", t.duration, "duration > 0 s for profile = \"ramp\""));
+        }
+        if t.profile == TorqueProfile::Sine && t.frequency <= 0.0 {
+            return Err(range("torque.frequency", t.frequency, "frequency > 0 Hz for profile = \"sine\""));
+        }
+        if t.profile == TorqueProfile::Table && t.file.is_none() {
+            return Err(Error::Config("torque.file: required for profile = \"table\" (a CSV time_s,torque_Nm)".into()));
+        }
+        let o = &self.output;
+        if o.every == 0 {
+            return Err(Error::Config("output.every = 0: allowed range 1 and up".into()));
+        }
+        if let Some(mag) = o.magnification {
+            if !(mag >= 0.0 && mag.is_finite()) {
+                return Err(range("output.magnification", mag, "magnification >= 0 (omit the key for automatic)"));
+            }
+        }
+        if o.max_frames < 2 {
+            return Err(Error::Config(format!("output.max_frames = {}: allowed range 2 and up", o.max_frames)));
+        }
+        Ok(())
+    }
+}
+
+fn range(key: &str, value: f64, allowed: &str) -> Error {
+    Error::Config(format!("{key} = {value}: allowed {allowed}"))
+}
+
+fn finite(key: &str, v: f64) -> Result<(), Error> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(range(key, v, "a finite number"))
+    }
+}
+
+fn positive(key: &str, v: f64, unit: &str) -> Result<(), Error> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(range(key, v, &format!("a finite value > 0 {unit}")))
+    }
+}
+
+fn non_negative(key: &str, v: f64, unit: &str) -> Result<(), Error> {
+    if v >= 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(range(key, v, &format!("a finite value >= 0 {unit}")))
+    }
+}
+
+fn within(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), Error> {
+    if v >= lo && v <= hi {
+        Ok(())
+    } else {
+        Err(range(key, v, &format!("{lo} to {hi} {unit}")))
+    }
+}
+
+/// Applies one `section.key=value` override to a TOML document. The value is read as TOML
+/// (numbers, booleans, quoted strings); a bare word that is not valid TOML is taken as a string.
+fn apply_override(doc: &mut toml::Table, assignment: &str) -> Result<(), Error> {
+    let (key, value) = assignment
+        .split_once('=')
+        .ok_or_else(|| Error::Config(format!("--set {assignment}: expected key=value, e.g. mesh.max_size=0.01")))?;
+    let key = key.trim();
+    let value = value.trim();
+    let parsed: toml::Value = match format!("v = {value}").parse::<toml::Table>() {
+        Ok(mut t) => t.remove("v").expect("parsed key"),
+        Err(_) => toml::Value::String(value.to_string()),
+    };
+    let parts: Vec<&str> = key.split('.').collect();
+    if parts.len() != 2 || parts.iter().any(|p| p.is_empty()) {
+        return Err(Error::Config(format!(
+            "--set {assignment}: the key must be section.name, e.g. mesh.max_size or time.dt"
+        )));
+    }
+    let section = doc
+        .entry(parts[0].to_string())
+        .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+    let table = section
+        .as_table_mut()
+        .ok_or_else(|| Error::Config(format!("--set {assignment}: `{}` is not a section", parts[0])))?;
+    table.insert(parts[1].to_string(), parsed);
+    Ok(())
+}
+
+/// A commented configuration listing every key with its default and unit.
+pub fn commented_default() -> String {
+    include_str!("default_config.toml").to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn commented_default_parses_to_the_defaults() {
+        let cfg = Config::from_toml_str(&commented_default()).expect("the shipped default config is valid");
+        assert_eq!(cfg, Config::default());
+    }
+
+    #[test]
+    fn overrides_are_typed_and_checked() {
+        let cfg = Config::load(None, &["mesh.max_size=0.01".into(), "material.plane=strain".into()]).unwrap();
+        assert_eq!(cfg.mesh.max_size, 0.01);
+        assert_eq!(cfg.material.plane, Plane::Strain);
+        let err = Config::load(None, &["mesh.max_size=-1".into()]).unwrap_err().to_string();
+        assert!(err.contains("mesh.max_size"), "{err}");
+    }
+}

@@ -1,0 +1,138 @@
+//! The crate's error type: every variant carries the context a user needs (which key, which
+//! element, which step and time), and chains its cause.
+
+use std::fmt;
+
+/// Why the Newton solver gave up on one step.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NewtonError {
+    /// `max_iterations` reached; the last energy norm of the update and residual norm.
+    MaxIterations {
+        /// Iterations done.
+        iterations: usize,
+        /// Last `|Δuᵀ r|` \[J\].
+        energy_norm: f64,
+        /// Last residual norm \[N\].
+        residual: f64,
+    },
+    /// The tangent could not be factorised (not positive definite).
+    SingularTangent {
+        /// Iteration at which it happened.
+        iteration: usize,
+    },
+    /// The residual or energy became infinite or NaN (an inverted element).
+    NonFinite {
+        /// Iteration at which it happened.
+        iteration: usize,
+    },
+    /// The line search found no decrease of the incremental potential.
+    LineSearch {
+        /// Iteration at which it happened.
+        iteration: usize,
+        /// Residual norm \[N\].
+        residual: f64,
+    },
+}
+
+impl fmt::Display for NewtonError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::MaxIterations { iterations, energy_norm, residual } => write!(
+                f,
+                "Newton did not converge in {iterations} iterations (energy norm {energy_norm:.3e} J, residual {residual:.3e} N)"
+            ),
+            Self::SingularTangent { iteration } => {
+                write!(f, "tangent matrix not positive definite at Newton iteration {iteration}")
+            }
+            Self::NonFinite { iteration } => {
+                write!(f, "non-finite energy or residual (inverted element) at Newton iteration {iteration}")
+            }
+            Self::LineSearch { iteration, residual } => write!(
+                f,
+                "line search found no decrease at Newton iteration {iteration} (residual {residual:.3e} N)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for NewtonError {}
+
+/// The crate error.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum Error {
+    /// Invalid configuration or command-line value; the message names the key and the allowed range.
+    Config(String),
+    /// Impossible geometry; names the parameter.
+    Geometry(String),
+    /// Mesh generation failed or produced an invalid mesh.
+    Mesh(String),
+    /// An element of the reference mesh with non-positive Jacobian.
+    InvertedElement {
+        /// Element index.
+        element: usize,
+        /// Quadrature point index.
+        quad_point: usize,
+        /// The Jacobian determinant found.
+        det_j: f64,
+    },
+    /// A time step failed after all cut-backs.
+    TimeStep {
+        /// Step number (1-based: the step that would reach `t + dt`).
+        step: usize,
+        /// Time at the start of the step \[s\].
+        t: f64,
+        /// Smallest step tried \[s\].
+        dt: f64,
+        /// The last Newton failure.
+        source: NewtonError,
+    },
+    /// A file could not be read or written.
+    Io {
+        /// The file or folder.
+        path: std::path::PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// Invalid input data in a file (names the file and line).
+    Input(String),
+    /// The sparse factorisation could not be set up.
+    LinearSolver(String),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Config(m) => write!(f, "configuration: {m}"),
+            Self::Geometry(m) => write!(f, "geometry: {m}"),
+            Self::Mesh(m) => write!(f, "mesh: {m}"),
+            Self::InvertedElement { element, quad_point, det_j } => write!(
+                f,
+                "mesh: element {element} has a non-positive Jacobian {det_j:e} at quadrature point {quad_point}"
+            ),
+            Self::TimeStep { step, t, dt, source } => {
+                write!(f, "time step {step} from t = {t:.6} s failed (smallest dt tried {dt:.3e} s): {source}")
+            }
+            Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::Input(m) => write!(f, "input: {m}"),
+            Self::LinearSolver(m) => write!(f, "linear solver: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::TimeStep { source, .. } => Some(source),
+            Self::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+impl Error {
+    /// Wraps an I/O error with the path it concerns.
+    pub fn io(path: impl Into<std::path::PathBuf>, source: std::io::Error) -> Self {
+        Self::Io { path: path.into(), source }
+    }
+}

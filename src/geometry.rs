@@ -1,0 +1,1 @@
+//! Constructive solid geometry of straight and circular edges (to be written: issue 2).

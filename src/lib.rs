@@ -1,0 +1,41 @@
+//! # pendulum-fem
+//!
+//! A finite-element simulator of a deformable pendulum: a thin steel plate (a rod with a ring-shaped
+//! head) swinging on a hinge under gravity, hyperelastic, optionally driven by a torque at the pivot.
+//! It reproduces the NGSolve tutorial "FEM Pendulum: Basics" and its sequels.
+//!
+//! ## The model
+//!
+//! Total Lagrangian, plane stress (or strain), thickness `t`, reference domain `Ω₀`, displacement
+//! `u(X, t)`, deformation gradient `F = I + ∇₀u`:
+//!
+//! ```text
+//! ρ t ü = ∇₀·(t P) + ρ t g        in Ω₀,        P = ∂ψ/∂F,
+//! (1/|Γ_rot|) ∫_Γrot u ds = 0     (hinge: two Lagrange multipliers, the reaction force).
+//! ```
+//!
+//! Time is discretised by Newmark's average-acceleration rule written as an incremental potential
+//! (see [`newmark`]); each step is a constrained minimisation solved by Newton's method with a line
+//! search ([`newton`]) over a sparse Cholesky factorisation whose symbolic analysis is done once per
+//! run ([`linsolve`]).
+//!
+//! ## Units
+//!
+//! SI throughout: m, kg, s, Pa, N, J, rad.
+//!
+//! ## Pipeline (module map)
+//!
+//! [`config`] → [`geometry`] → [`mesh`] → [`element`], [`quadrature`] → [`material`] → [`fe`] →
+//! [`terms`] + [`constraint`] → [`newton`] over [`linsolve`] → [`newmark`] → [`simulation`] →
+//! [`post`] → [`io`].
+#![warn(missing_docs)]
+
+pub mod config;
+pub mod error;
+pub mod geometry;
+pub mod io;
+pub mod mesh;
+
+pub use config::Config;
+pub use error::Error;
+pub use mesh::Mesh;
