@@ -32,6 +32,7 @@
 // Numerical kernels index several arrays with one loop variable; an index loop reads like the formula.
 #![allow(clippy::needless_range_loop)]
 
+pub mod commands;
 pub mod config;
 pub mod error;
 pub mod geometry;

@@ -197,3 +197,40 @@ impl StressRecovery {
         out
     }
 }
+
+/// Period estimate from the zero crossings of `θ(t)` (linear interpolation between samples):
+/// `T = 2 (t_last − t_first) / (crossings − 1)`. Streaming: feed samples in time order.
+#[derive(Clone, Debug, Default)]
+pub struct PeriodEstimator {
+    last: Option<(f64, f64)>,
+    first_crossing: Option<f64>,
+    last_crossing: Option<f64>,
+    crossings: usize,
+}
+
+impl PeriodEstimator {
+    /// Adds the sample `(t, θ)`.
+    pub fn push(&mut self, t: f64, theta: f64) {
+        if let Some((t0, th0)) = self.last {
+            if (th0 < 0.0 && theta >= 0.0) || (th0 > 0.0 && theta <= 0.0) {
+                let tc = if theta == th0 {
+                    t
+                } else {
+                    t0 + (t - t0) * th0 / (th0 - theta)
+                };
+                self.first_crossing.get_or_insert(tc);
+                self.last_crossing = Some(tc);
+                self.crossings += 1;
+            }
+        }
+        self.last = Some((t, theta));
+    }
+
+    /// The period \[s\], once at least two crossings were seen.
+    pub fn period(&self) -> Option<f64> {
+        match (self.first_crossing, self.last_crossing) {
+            (Some(a), Some(b)) if self.crossings >= 2 => Some(2.0 * (b - a) / (self.crossings - 1) as f64),
+            _ => None,
+        }
+    }
+}
