@@ -1,0 +1,59 @@
+//! Newmark as an incremental potential: second order on a linear oscillator, and the presets.
+
+use pendulum_fem::newmark::{Newmark, State};
+
+/// Integrates m ü + k u = 0 (m = 1, k = ω² = 4) from u = 1, v = 0 to `t_end` with `steps` steps,
+/// minimising the scalar incremental potential c/2 (u − ũ)² + k/2 u² exactly.
+fn integrate(scheme: Newmark, t_end: f64, steps: usize) -> State {
+    let k = 4.0;
+    let dt = t_end / steps as f64;
+    let mut s = State {
+        t: 0.0,
+        u: vec![1.0],
+        v: vec![0.0],
+        a: vec![-k],
+    };
+    for _ in 0..steps {
+        let pred = scheme.predict_u(dt, &s)[0];
+        let c = scheme.inertia_factor(dt);
+        let u_new = c * pred / (c + k);
+        s = scheme.correct(dt, &s, vec![u_new]);
+    }
+    s
+}
+
+#[test]
+fn newmark_variants_are_second_order() {
+    for scheme in [Newmark::AVERAGE_ACCELERATION, Newmark::LINEAR_ACCELERATION] {
+        let exact = (2.0f64 * 2.0).cos();
+        let error = |steps| (integrate(scheme, 2.0, steps).u[0] - exact).abs();
+        let rate = (error(64) / error(128)).log2();
+        assert!(rate > 1.9, "{scheme:?}: observed order {rate:.2}");
+    }
+}
+
+#[test]
+fn average_acceleration_is_the_tutorial_update() {
+    // v⁺ = 2/Δt (u⁺ − u) − v,  a⁺ = 2/Δt (v⁺ − v) − a
+    let s = State {
+        t: 0.0,
+        u: vec![0.3, -0.1],
+        v: vec![1.0, 2.0],
+        a: vec![-3.0, 0.5],
+    };
+    let dt = 0.01;
+    let u_new = vec![0.31, -0.08];
+    let n = Newmark::AVERAGE_ACCELERATION.correct(dt, &s, u_new.clone());
+    for i in 0..2 {
+        let v = 2.0 / dt * (u_new[i] - s.u[i]) - s.v[i];
+        let a = 2.0 / dt * (v - s.v[i]) - s.a[i];
+        assert!((n.v[i] - v).abs() < 1e-9 && (n.a[i] - a).abs() < 1e-6, "component {i}");
+    }
+}
+
+#[test]
+fn average_acceleration_conserves_the_energy_of_a_linear_oscillator() {
+    let s = integrate(Newmark::AVERAGE_ACCELERATION, 50.0, 1000);
+    let e = 0.5 * s.v[0] * s.v[0] + 0.5 * 4.0 * s.u[0] * s.u[0];
+    assert!((e - 2.0).abs() < 1e-12, "energy {e}");
+}
