@@ -29,8 +29,6 @@
 //! [`terms`] + [`constraint`] → [`newton`] over [`linsolve`] → [`newmark`] → [`simulation`] →
 //! [`post`] → [`io`].
 #![warn(missing_docs)]
-// Numerical kernels index several arrays with one loop variable; an index loop reads like the formula.
-#![allow(clippy::needless_range_loop)]
 
 pub mod commands;
 pub mod config;
