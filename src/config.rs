@@ -224,6 +224,17 @@ pub enum InitialAcceleration {
     Zero,
 }
 
+/// The elastic state of the initial configuration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum InitialElastic {
+    /// In elastic equilibrium with gravity, torque and the inertial forces of the rigid start
+    /// (requires `acceleration = "rigid"`; the default there).
+    Equilibrium,
+    /// Undeformed (the tutorial's start; the default with `acceleration = "zero"`).
+    Undeformed,
+}
+
 /// Initial state: a rigid rotation about the pivot.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -234,15 +245,23 @@ pub struct Initial {
     pub angular_velocity: f64,
     /// Initial acceleration field.
     pub acceleration: InitialAcceleration,
+    /// Elastic state of the start; `None`: equilibrium with a rigid start, undeformed with a zero one.
+    pub elastic: Option<InitialElastic>,
 }
 
 impl Default for Initial {
     fn default() -> Self {
-        Self {
-            angle_deg: 20.0,
-            angular_velocity: 0.0,
-            acceleration: InitialAcceleration::Rigid,
-        }
+        Self { angle_deg: 20.0, angular_velocity: 0.0, acceleration: InitialAcceleration::Rigid, elastic: None }
+    }
+}
+
+impl Initial {
+    /// The elastic state with its default filled in.
+    pub fn elastic_state(&self) -> InitialElastic {
+        self.elastic.unwrap_or(match self.acceleration {
+            InitialAcceleration::Rigid => InitialElastic::Equilibrium,
+            InitialAcceleration::Zero => InitialElastic::Undeformed,
+        })
     }
 }
 
@@ -524,6 +543,13 @@ impl Config {
         non_negative("gravity.g", self.gravity.g, "m/s^2")?;
         within("initial.angle_deg", self.initial.angle_deg, -360.0, 360.0, "deg")?;
         finite("initial.angular_velocity", self.initial.angular_velocity)?;
+        if self.initial.elastic == Some(InitialElastic::Equilibrium) && self.initial.acceleration == InitialAcceleration::Zero {
+            return Err(Error::Config(
+                "initial.elastic = \"equilibrium\" needs initial.acceleration = \"rigid\" (a tilted body with zero \
+                 acceleration has no equilibrium); allowed with \"zero\": \"undeformed\""
+                    .into(),
+            ));
+        }
         positive("time.dt", self.time.dt, "s")?;
         non_negative("time.end", self.time.end, "s")?;
         if self.time.end > 0.0 && self.time.dt > self.time.end {

@@ -15,7 +15,8 @@
 //! against the steel stiffness it changes the deformation by about 1e-9 relative. Starting
 //! undeformed instead excites axial vibrations that the trapezoidal rule never damps (the hinge
 //! force then oscillates by 5e-5 of the weight for a pendulum at rest). The `"zero"` start is
-//! the tutorial's: undeformed, at rest in its own frame.
+//! the tutorial's: undeformed, at rest in its own frame (`initial.elastic = "undeformed"` also gives
+//! an undeformed rigid start, for comparisons with codes that start that way).
 //!
 //! **Steps**: each user step `tₙ → tₙ + Δt` minimises the Newmark incremental potential
 //! ([`crate::newmark`]) with Newton ([`crate::newton`]). If Newton fails, the step is split into two
@@ -23,7 +24,7 @@
 //! the step, the time and the last residual ([`Error::TimeStep`]).
 
 use crate::assembly::Pattern;
-use crate::config::{Config, InitialAcceleration};
+use crate::config::{Config, InitialAcceleration, InitialElastic};
 use crate::constraint::Hinge;
 use crate::error::NewtonError;
 use crate::fe::FeCache;
@@ -320,7 +321,7 @@ impl Simulation {
         let fx: f64 = ma.iter().step_by(2).sum();
         let fy: f64 = ma.iter().skip(1).step_by(2).sum::<f64>() + sim.model.gravity.load_gradient.iter().sum::<f64>();
         sim.lambda = [-fx, -fy];
-        if sim.model.config.initial.acceleration == InitialAcceleration::Rigid {
+        if sim.model.config.initial.elastic_state() == InitialElastic::Equilibrium {
             sim.equilibrate()?;
         }
         let theta0 = sim.model.projection.angle(&sim.state.u);
