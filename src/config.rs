@@ -251,7 +251,12 @@ pub struct Initial {
 
 impl Default for Initial {
     fn default() -> Self {
-        Self { angle_deg: 20.0, angular_velocity: 0.0, acceleration: InitialAcceleration::Rigid, elastic: None }
+        Self {
+            angle_deg: 20.0,
+            angular_velocity: 0.0,
+            acceleration: InitialAcceleration::Rigid,
+            elastic: None,
+        }
     }
 }
 
@@ -543,7 +548,9 @@ impl Config {
         non_negative("gravity.g", self.gravity.g, "m/s^2")?;
         within("initial.angle_deg", self.initial.angle_deg, -360.0, 360.0, "deg")?;
         finite("initial.angular_velocity", self.initial.angular_velocity)?;
-        if self.initial.elastic == Some(InitialElastic::Equilibrium) && self.initial.acceleration == InitialAcceleration::Zero {
+        if self.initial.elastic == Some(InitialElastic::Equilibrium)
+            && self.initial.acceleration == InitialAcceleration::Zero
+        {
             return Err(Error::Config(
                 "initial.elastic = \"equilibrium\" needs initial.acceleration = \"rigid\" (a tilted body with zero \
                  acceleration has no equilibrium); allowed with \"zero\": \"undeformed\""

@@ -22,6 +22,8 @@ struct Cli {
 enum Command {
     /// Simulate the swing and write results.csv (and the other outputs) to a fresh folder.
     Run(RunArgs),
+    /// Measure speed and memory (see `pendulum-fem bench --help`).
+    Bench(BenchArgs),
     /// Write a commented configuration file listing every key, its default and its unit.
     Init {
         /// File to write (default: pendulum.toml).
@@ -56,6 +58,50 @@ struct RunArgs {
     /// No progress output.
     #[arg(long, short = 'q')]
     quiet: bool,
+}
+
+#[derive(Args, Debug)]
+struct BenchArgs {
+    /// What to measure.
+    #[arg(value_enum, default_value = "run")]
+    what: BenchTarget,
+    #[command(flatten)]
+    cfg: ConfigArgs,
+    /// Repetitions of the default run (`run`); the best is reported.
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
+    /// Python interpreter with NGSolve: also time the tutorial script and print the ratio (`run`).
+    #[arg(long, value_name = "PYTHON")]
+    ngsolve: Option<PathBuf>,
+    /// The NGSolve tutorial script.
+    #[arg(long, value_name = "FILE", default_value = "../shared/anchors/ngsolve_tutorial.py")]
+    anchor: PathBuf,
+    /// Steps per mesh (`scaling`).
+    #[arg(long, default_value_t = 5)]
+    steps: usize,
+    /// Finest refinement factor (`scaling`): sizes down to 1/N of the default (1, 2, 4, 8 ≈ 5k to 320k unknowns).
+    #[arg(long, default_value_t = 8)]
+    finest: usize,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+enum BenchTarget {
+    /// The whole default run, with a per-iteration breakdown.
+    Run,
+    /// Time per step from ~5k to ~320k unknowns.
+    Scaling,
+    /// Resident memory after 100 and 1000 steps.
+    Memory,
+}
+
+fn bench(args: BenchArgs) -> Result<(), Error> {
+    use pendulum_fem::commands::bench;
+    let config = load(&args.cfg)?;
+    match args.what {
+        BenchTarget::Run => bench::bench_run(&config, args.repeats, args.ngsolve.as_deref(), &args.anchor),
+        BenchTarget::Scaling => bench::bench_scaling(&config, args.steps, args.finest),
+        BenchTarget::Memory => bench::bench_memory(&config, 100, 1000),
+    }
 }
 
 fn load(args: &ConfigArgs) -> Result<Config, Error> {
@@ -136,6 +182,7 @@ fn main() -> ExitCode {
         None => run(RunArgs::default()),
         Some(Command::Run(args)) => run(args),
         Some(Command::Init { file, force }) => init(file, force),
+        Some(Command::Bench(args)) => bench(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

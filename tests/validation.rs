@@ -26,7 +26,9 @@ fn simulate(cfg: &Config) -> (Simulation, Vec<StepRecord>) {
 }
 
 fn reference(name: &str) -> Vec<(f64, f64, f64)> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name);
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name);
     let (names, rows) = read_numeric_csv(&path).unwrap();
     assert_eq!(names, ["t_s", "theta_rad", "newton_iterations"]);
     rows.into_iter().map(|r| (r[0], r[1], r[2])).collect()
@@ -43,12 +45,19 @@ fn compare_with_ngsolve(acceleration: InitialAcceleration, file: &str) {
         assert!((r.time - t).abs() < 1e-9);
         worst = worst.max((r.theta - theta).abs().to_degrees());
     }
-    println!("{file}: largest |θ − θ_NGSolve| = {worst:.2e} deg, {} Newton iterations", sim.total_iterations);
+    println!(
+        "{file}: largest |θ − θ_NGSolve| = {worst:.2e} deg, {} Newton iterations",
+        sim.total_iterations
+    );
     // the bar: 0.01° at every step
     assert!(worst < 0.01, "{file}: largest deviation {worst} deg");
     // algorithmic behaviour: NGSolve needs 461 iterations (4.6 per step); our rotational predictor
     // and one modified-Newton correction need two linear solves and one factorisation per step
-    assert!(sim.total_iterations <= 2 * cfg.time.steps(), "{} Newton iterations", sim.total_iterations);
+    assert!(
+        sim.total_iterations <= 2 * cfg.time.steps(),
+        "{} Newton iterations",
+        sim.total_iterations
+    );
     assert_eq!(sim.cutbacks, 0);
 }
 
@@ -87,7 +96,12 @@ fn hanging_at_rest_carries_the_weight_and_does_not_turn() {
     let (_, records) = simulate(&cfg);
     let weight = EXACT_MASS * cfg.gravity.g;
     for r in &records {
-        assert!((r.hinge_force[1] / weight - 1.0).abs() < 1e-6, "t = {}: reaction {} vs {weight}", r.time, r.hinge_force[1]);
+        assert!(
+            (r.hinge_force[1] / weight - 1.0).abs() < 1e-6,
+            "t = {}: reaction {} vs {weight}",
+            r.time,
+            r.hinge_force[1]
+        );
         assert!(r.hinge_force[0].abs() < 1e-6 * weight);
         assert!(r.theta.abs() < 1e-10, "t = {}: θ = {}", r.time, r.theta);
     }
@@ -127,7 +141,11 @@ fn an_undeformed_rigid_start_and_an_equilibrium_start_agree_for_steel() {
     let (_, eq) = simulate(&cfg);
     cfg.initial.elastic = Some(InitialElastic::Undeformed);
     let (_, und) = simulate(&cfg);
-    let worst = eq.iter().zip(&und).map(|(a, b)| (a.theta - b.theta).abs()).fold(0.0, f64::max);
+    let worst = eq
+        .iter()
+        .zip(&und)
+        .map(|(a, b)| (a.theta - b.theta).abs())
+        .fold(0.0, f64::max);
     // steel strains are ~1e-8: the pre-deformation moves θ by far less than the 0.01° bar
     assert!(worst.to_degrees() < 1e-5, "{worst}");
 }

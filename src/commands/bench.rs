@@ -1,0 +1,183 @@
+//! `pendulum-fem bench`: measured speed and memory (benchmarks, never timed unit tests).
+//!
+//! * `run`: the whole default job (mesh, 100 steps, post-processing, `results.csv`) repeated, with
+//!   a breakdown per Newton iteration (assembly, factorisation, solve); with `--ngsolve PYTHON` the
+//!   NGSolve tutorial script (`shared/anchors/ngsolve_tutorial.py --post 1 --energy 0`) is run in the
+//!   same session and the ratio of wall times is printed.
+//! * `scaling`: time per step at about 5k, 20k, 80k and 320k unknowns (all mesh sizes scaled).
+//! * `memory`: resident memory after 100 and after 1000 steps (streaming output must keep it flat).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::commands::run::{run_with, RunOptions, RunSummary};
+use crate::simulation::Simulation;
+use crate::{mesh, Config, Error};
+
+/// Resident set size of this process \[MiB\] (Linux; `None` elsewhere).
+pub fn resident_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
+fn temp_dir(tag: &str) -> Result<PathBuf, Error> {
+    let dir = std::env::temp_dir().join(format!("pendulum-fem-bench-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    Ok(dir)
+}
+
+/// One default run into a scratch folder.
+pub fn time_default_run(cfg: &Config) -> Result<RunSummary, Error> {
+    let dir = temp_dir("run")?;
+    let opts = RunOptions {
+        config: cfg.clone(),
+        out: Some(dir.clone()),
+        force: true,
+        quiet: true,
+    };
+    let s = run_with(&opts, dir.clone(), |_, _| Ok(()));
+    let _ = std::fs::remove_dir_all(&dir);
+    s
+}
+
+/// `bench run`: repeats the default run, prints the best and the breakdown; optionally runs NGSolve.
+pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, anchor: &Path) -> Result<(), Error> {
+    let mut best: Option<RunSummary> = None;
+    for i in 0..repeats.max(1) {
+        let s = time_default_run(cfg)?;
+        println!(
+            "run {}: total {:.3} s (mesh {:.4} s, set-up {:.4} s, steps+post+csv {:.3} s), {} Newton iterations",
+            i + 1,
+            s.seconds_total,
+            s.seconds_mesh,
+            s.seconds_setup,
+            s.seconds_steps,
+            s.newton_iterations
+        );
+        if best.as_ref().is_none_or(|b| s.seconds_total < b.seconds_total) {
+            best = Some(s);
+        }
+    }
+    let s = best.expect("at least one run");
+    let t = s.timings;
+    let its = s.newton_iterations.max(1) as f64;
+    println!(
+        "best of {repeats}: {:.3} s for {} steps, {} unknowns",
+        s.seconds_total, s.steps, s.unknowns
+    );
+    println!("per Newton iteration ({} iterations):", s.newton_iterations);
+    println!(
+        "  assembly (energy, gradient, tangent) {:.3} ms",
+        1e3 * t.assembly / its
+    );
+    println!(
+        "  numeric factorisation               {:.3} ms",
+        1e3 * t.factorization / its
+    );
+    println!("  solves + Schur complement           {:.3} ms", 1e3 * t.solve / its);
+    println!("  residual checks                     {:.3} ms", 1e3 * t.residual / its);
+    println!(
+        "  line search                         {:.3} ms",
+        1e3 * t.line_search / its
+    );
+    println!(
+        "totals: assembly {:.3} s, factorisation {:.3} s, solve {:.3} s, residual {:.3} s",
+        t.assembly, t.factorization, t.solve, t.residual
+    );
+    if let Some(python) = ngsolve_python {
+        let start = Instant::now();
+        let out = std::process::Command::new(python)
+            .arg(anchor)
+            .args(["--post", "1", "--energy", "0"])
+            .output()
+            .map_err(|e| Error::io(python, e))?;
+        let ngs = start.elapsed().as_secs_f64();
+        if !out.status.success() {
+            return Err(Error::Input(format!(
+                "NGSolve script {} failed: {}",
+                anchor.display(),
+                String::from_utf8_lossy(&out.stderr)
+            )));
+        }
+        print!("{}", String::from_utf8_lossy(&out.stdout));
+        println!("NGSolve tutorial script: {ngs:.3} s wall (process start to exit)");
+        println!("speed ratio NGSolve / pendulum-fem: {:.1}", ngs / s.seconds_total);
+    }
+    Ok(())
+}
+
+/// The configuration with every mesh size multiplied by `factor`.
+pub fn scaled_mesh(cfg: &Config, factor: f64) -> Config {
+    let mut c = cfg.clone();
+    let s = cfg.mesh_sizes();
+    c.mesh.max_size = s.max_size * factor;
+    c.mesh.rod_size = Some(s.rod * factor);
+    c.mesh.head_size = Some(s.head * factor);
+    c.mesh.hinge_edge_size = Some(s.hinge_edge * factor);
+    c.mesh.hinge_corner_size = Some(s.hinge_corner * factor);
+    c.mesh.circle_edge_size = Some(s.circle_edge * factor);
+    c
+}
+
+/// `bench scaling`: time per step for meshes of about 5k, 20k, 80k, 320k unknowns.
+pub fn bench_scaling(cfg: &Config, steps: usize, largest_factor: usize) -> Result<(), Error> {
+    println!(
+        "{:>10} {:>10} {:>12} {:>12} {:>14} {:>12} {:>10}",
+        "factor", "unknowns", "mesh s", "setup s", "ms/step", "its/step", "nnz(L)"
+    );
+    let mut previous: Option<(usize, f64)> = None;
+    let mut f = 1usize;
+    while f <= largest_factor {
+        let c = scaled_mesh(cfg, 1.0 / f as f64);
+        let t0 = Instant::now();
+        let m = mesh::generate(&c)?;
+        let t_mesh = t0.elapsed().as_secs_f64();
+        let t1 = Instant::now();
+        let mut sim = Simulation::from_config(&c, m)?;
+        let t_setup = t1.elapsed().as_secs_f64();
+        let t2 = Instant::now();
+        for _ in 0..steps {
+            sim.advance()?;
+        }
+        let per_step = t2.elapsed().as_secs_f64() / steps as f64;
+        let n = 2 * sim.model.mesh.num_nodes() + 2;
+        println!(
+            "{:>10} {:>10} {:>12.3} {:>12.3} {:>14.2} {:>12.2} {:>10}",
+            format!("1/{f}"),
+            n,
+            t_mesh,
+            t_setup,
+            1e3 * per_step,
+            sim.total_iterations as f64 / steps as f64,
+            sim.solver.factor_nnz()
+        );
+        if let Some((n0, t0)) = previous {
+            println!(
+                "{:>10} growth exponent (time ~ n^p): p = {:.2}",
+                "",
+                (per_step / t0).ln() / (n as f64 / n0 as f64).ln()
+            );
+        }
+        previous = Some((n, per_step));
+        f *= 2;
+    }
+    Ok(())
+}
+
+/// `bench memory`: resident memory after `short` and after `long` steps of the default model.
+pub fn bench_memory(cfg: &Config, short: usize, long: usize) -> Result<(), Error> {
+    for steps in [short, long] {
+        let mut c = cfg.clone();
+        c.time.end = steps as f64 * c.time.dt;
+        let before = resident_mib().unwrap_or(f64::NAN);
+        let s = time_default_run(&c)?;
+        let after = resident_mib().unwrap_or(f64::NAN);
+        println!(
+            "{steps:>6} steps: {:.2} s, resident memory {before:.1} MiB before, {after:.1} MiB after",
+            s.seconds_total
+        );
+    }
+    Ok(())
+}
