@@ -24,7 +24,7 @@
 //! the step, the time and the last residual ([`Error::TimeStep`]).
 
 use crate::assembly::Pattern;
-use crate::config::{Config, InitialAcceleration, InitialElastic};
+use crate::config::{Config, InitialAcceleration, InitialElastic, TorqueProfile as ProfileKind};
 use crate::constraint::Hinge;
 use crate::error::NewtonError;
 use crate::fe::FeCache;
@@ -35,7 +35,7 @@ use crate::newton::{NewtonSettings, Solver, Timings};
 use crate::post::{moment_of, NodalStress, RigidProjection, StressRecovery, Unwrap};
 use crate::quadrature::TriangleRule;
 use crate::terms::inertia::MassMatrix;
-use crate::terms::{Elastic, Gravity, Inertia, Term};
+use crate::terms::{Elastic, Gravity, Inertia, Term, Torque, TorqueProfile};
 use crate::{Error, Mesh};
 
 /// Relative equilibrium tolerance of a converged step: `‖∇Φ + Cᵀλ‖∞ ≤ 10⁻⁴ × load scale`, where the
@@ -62,6 +62,8 @@ pub struct Model {
     pub gravity: Gravity,
     /// Further terms (torque, contact), added by later stages.
     pub extra_terms: Vec<Box<dyn Term>>,
+    /// The actuator torque's time profile `M(t)` ([`TorqueProfile::Zero`] without `[torque]`).
+    pub torque_profile: TorqueProfile,
     /// Consistent mass matrix.
     pub mass: MassMatrix,
     /// The hinge.
@@ -85,7 +87,20 @@ impl Model {
         let elastic = Elastic::new(material, &mesh, cache);
         let gravity = Gravity::new(&mesh, rho, t, config.gravity.g);
         let hinge = Hinge::new(&mesh, HINGE_BOUNDARY)?;
-        let pattern = Pattern::new(&mesh, &[]);
+        let mut extra_terms: Vec<Box<dyn Term>> = Vec::new();
+        let mut torque_profile = TorqueProfile::Zero;
+        if config.torque.profile != ProfileKind::None {
+            let torque = Torque::from_config(
+                &mesh,
+                HINGE_BOUNDARY,
+                &config.torque,
+                config.initial.angle_deg.to_radians(),
+            )?;
+            torque_profile = torque.profile.clone();
+            extra_terms.push(Box::new(torque));
+        }
+        let entries: Vec<(usize, usize)> = extra_terms.iter().flat_map(|t| t.hessian_entries()).collect();
+        let pattern = Pattern::new(&mesh, &entries);
         let mass = MassMatrix::new(&mesh, &pattern, rho, t);
         let projection = RigidProjection::new(&mesh);
         let stress = StressRecovery::new(&mesh)?;
@@ -96,7 +111,8 @@ impl Model {
             pattern,
             elastic,
             gravity,
-            extra_terms: Vec::new(),
+            extra_terms,
+            torque_profile,
             mass,
             hinge,
             projection,
@@ -134,9 +150,21 @@ impl Model {
         self.config.material.density * self.config.geometry.thickness * self.projection.polar
     }
 
-    /// The external torque about the pivot at time `t` \[N m\] from the extra terms (0 without).
-    pub fn applied_torque(&self, _t: f64) -> f64 {
-        0.0
+    /// The actuator torque `M(t)` \[N m\] of the `[torque]` section (0 without). With
+    /// `torque.follower = false` this is the moment in the reference position; a body turned by `θ`
+    /// receives `M cos θ` ([`crate::terms::torque`]).
+    pub fn applied_torque(&self, t: f64) -> f64 {
+        self.torque_profile.value(t)
+    }
+
+    /// The moment of the actuator about the pivot when the body is rigidly turned by `theta` \[N m\]:
+    /// `M(t)` for the follower torque, `M(t) cos θ` for the fixed-direction load.
+    pub fn applied_moment_at(&self, t: f64, theta: f64) -> f64 {
+        if self.config.torque.follower {
+            self.applied_torque(t)
+        } else {
+            self.applied_torque(t) * theta.cos()
+        }
     }
 
     /// The initial state described by the configuration.
@@ -152,7 +180,7 @@ impl Model {
         let sx = c * self.projection.first_moment[0] - s * self.projection.first_moment[1];
         let tau_g = -rho_t * self.config.gravity.g * sx;
         let alpha = match init.acceleration {
-            InitialAcceleration::Rigid => (tau_g + self.applied_torque(0.0)) / self.inertia_pivot(),
+            InitialAcceleration::Rigid => (tau_g + self.applied_moment_at(0.0, theta)) / self.inertia_pivot(),
             InitialAcceleration::Zero => 0.0,
         };
         let rigid_acc = init.acceleration == InitialAcceleration::Rigid;
@@ -229,12 +257,17 @@ pub struct StepRecord {
     pub von_mises_max: f64,
     /// Newton iterations of the step (0 for the initial state).
     pub newton_iterations: usize,
+    /// Actuator torque `M(t)` \[N m\] (see [`Model::applied_torque`]).
+    pub torque: f64,
+    /// Work done by the actuator since the start \[J\]; `total − total(0)` equals it up to the
+    /// integrator's energy error.
+    pub torque_work: f64,
 }
 
 impl StepRecord {
     /// CSV header, in this order.
     pub const HEADER: &'static str = "time_s,theta_rad,omega_rad_s,alpha_rad_s2,kinetic_J,strain_J,gravity_J,total_J,\
-hinge_fx_N,hinge_fy_N,von_mises_max_Pa,newton_iterations";
+hinge_fx_N,hinge_fy_N,von_mises_max_Pa,newton_iterations,torque_Nm,torque_work_J";
 }
 
 /// Nodal fields of the current state, owned, for the frame writers.
@@ -292,6 +325,8 @@ pub struct Simulation {
     pub total_iterations: usize,
     /// Cut-backs so far.
     pub cutbacks: usize,
+    /// Work of the external loads of the extra terms (the torque) since the start \[J\].
+    pub torque_work: f64,
     unwrap: Unwrap,
     scratch: Vec<f64>,
 }
@@ -308,6 +343,7 @@ impl Simulation {
             step: 0,
             total_iterations: 0,
             cutbacks: 0,
+            torque_work: 0.0,
             unwrap: Unwrap::default(),
             scratch: Vec::new(),
             model,
@@ -343,6 +379,9 @@ impl Simulation {
         };
         let mut terms: Vec<&dyn Term> = vec![&pin, &m.elastic, &m.gravity, &dalembert];
         terms.extend(m.extra_terms.iter().map(|t| t.as_ref()));
+        for t in &m.extra_terms {
+            t.begin_step(&self.state.u, self.state.t);
+        }
         let load_scale = dalembert
             .gradient
             .iter()
@@ -408,6 +447,8 @@ impl Simulation {
             hinge_force: Hinge::reaction(self.lambda),
             von_mises_max: m.stress.max_von_mises(&m.material, &s.u),
             newton_iterations,
+            torque: m.applied_torque(s.t),
+            torque_work: self.torque_work,
         }
     }
 
@@ -424,14 +465,23 @@ impl Simulation {
         }
     }
 
-    /// The largest nodal applied force: gravity and the inertia force `M a` of the current state \[N\].
-    fn load_scale(&mut self) -> f64 {
+    /// The largest nodal applied force: gravity, the inertia force `M a` of the current state and the
+    /// loads of the extra terms (the torque) at the current state and time `t` \[N\].
+    fn load_scale(&mut self, t: f64) -> f64 {
         let m = &self.model;
         self.scratch.resize(self.state.a.len(), 0.0);
         m.pattern.sym_matvec(&m.mass.values, &self.state.a, &mut self.scratch);
         let inertia = self.scratch.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         let gravity = m.gravity.load_gradient.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-        (inertia + gravity).max(1e-12)
+        let mut extra = 0.0;
+        if !m.extra_terms.is_empty() {
+            self.scratch.iter_mut().for_each(|x| *x = 0.0);
+            for term in &m.extra_terms {
+                term.add_gradient(&self.state.u, t, &mut self.scratch);
+            }
+            extra = self.scratch.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        }
+        (inertia + gravity + extra).max(1e-12)
     }
 
     /// Best-fit angular velocity and acceleration of the current state \[rad/s, rad/s²\].
@@ -467,8 +517,12 @@ impl Simulation {
 
     fn try_step(&mut self, dt: f64) -> Result<(State, [f64; 2], usize), NewtonError> {
         let mut u = self.rotational_guess(dt);
-        let load_scale = self.load_scale();
+        let t_new = self.state.t + dt;
+        let load_scale = self.load_scale(t_new);
         let m = &self.model;
+        for term in &m.extra_terms {
+            term.begin_step(&self.state.u, self.state.t);
+        }
         let inertia = Inertia {
             mass: &m.mass,
             pattern: &m.pattern,
@@ -484,7 +538,6 @@ impl Simulation {
             residual_tolerance: RESIDUAL_TOLERANCE,
             load_scale,
         };
-        let t_new = self.state.t + dt;
         let report = self
             .solver
             .minimize(&m.pattern, &terms, t_new, &mut u, &mut lambda, &settings)?;
@@ -502,6 +555,13 @@ impl Simulation {
     fn advance_by(&mut self, dt: f64, depth: usize) -> Result<usize, (NewtonError, f64)> {
         match self.try_step(dt) {
             Ok((state, lambda, its)) => {
+                let old = &self.state;
+                self.torque_work += self
+                    .model
+                    .extra_terms
+                    .iter()
+                    .map(|term| term.external_work(&old.u, old.t, &state.u, state.t))
+                    .sum::<f64>();
                 self.state = state;
                 self.lambda = lambda;
                 Ok(its)

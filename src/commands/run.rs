@@ -77,6 +77,8 @@ pub fn csv_values(r: &StepRecord) -> Vec<f64> {
         r.hinge_force[1],
         r.von_mises_max,
         r.newton_iterations as f64,
+        r.torque,
+        r.torque_work,
     ]
 }
 

@@ -15,10 +15,12 @@ use crate::assembly::Pattern;
 pub mod elastic;
 pub mod gravity;
 pub mod inertia;
+pub mod torque;
 
 pub use elastic::Elastic;
 pub use gravity::Gravity;
 pub use inertia::Inertia;
+pub use torque::{Torque, TorqueMode, TorqueProfile};
 
 /// One additive contribution to the potential.
 pub trait Term: Send + Sync {
@@ -44,5 +46,16 @@ pub trait Term: Send + Sync {
     /// Entries `(row, col)` outside the element pattern that this term writes; called once.
     fn hessian_entries(&self) -> Vec<(usize, usize)> {
         Vec::new()
+    }
+
+    /// Called by the simulation before every (sub)step attempt with the state `u` at the start of the
+    /// step (and before the initial equilibrium); a term may update internal reference data here
+    /// (the torque's branch of the hub angle). Default: nothing.
+    fn begin_step(&self, _u: &[f64], _t: f64) {}
+
+    /// The work \[J\] done on the body by this term's load over a step from `(u0, t0)` to `(u1, t1)`,
+    /// for external loads whose energy is not part of the reported total (the torque). Default: 0.
+    fn external_work(&self, _u0: &[f64], _t0: f64, _u1: &[f64], _t1: f64) -> f64 {
+        0.0
     }
 }

@@ -1,0 +1,589 @@
+//! The actuator torque `M(t)` \[N·m\] at the pivot, applied through the hinge edge `Γ` (the
+//! "rotation" boundary, `Y = 0`, centred on the pivot at the origin).
+//!
+//! ## Time profile
+//!
+//! [`TorqueProfile`] evaluates `M(t)` from the `[torque]` section: `constant` (`A`), `step` (`A` for
+//! `t ≥ start`, 0 before), `ramp` (0 before `start`, linear to `A` at `start + duration`, `A` after),
+//! `sine` (`A sin(2π f (t − start) + phase)` for `t ≥ start`, 0 before) and `table` (a CSV
+//! `time_s,torque_Nm`, linear interpolation, constant extrapolation beyond both ends; read once at
+//! set-up, every defect is an error naming the file and the line).
+//!
+//! ## Follower torque (`follower = true`, the default): the hub angle
+//!
+//! With reference points `X` on `Γ` and current points `x = X + u`, the best-fit rotation of the
+//! hinge edge about the pivot (its "hub angle") is
+//!
+//! ```text
+//! s(u) = ∫_Γ X × x ds = ∫_Γ (X_x u_y − X_y u_x) ds
+//! c(u) = ∫_Γ X · x ds = ∫_Γ |X|² ds + ∫_Γ (X_x u_x + X_y u_y) ds
+//! θ_hub(u) = atan2(s, c),
+//! ```
+//!
+//! both linear in `u` with the weights `w_{a,i} = ∫_Γ X_i N_a ds` (three-point Gauss per quadratic
+//! edge, as the hinge in [`crate::constraint`]; exact on straight edges). The torque is the energy
+//!
+//! ```text
+//! Π_τ(u, t) = −M(t) θ_hub(u)                                        [J]
+//! ∇Π_τ      = −M (c ∇s − s ∇c) / (c² + s²)                            [N]
+//! ∇²Π_τ     = −M (θ_ss ∇s∇sᵀ + θ_sc (∇s∇cᵀ + ∇c∇sᵀ) + θ_cc ∇c∇cᵀ)   [N/m]
+//! θ_ss = −2cs/r⁴,  θ_cc = 2cs/r⁴,  θ_sc = (s² − c²)/r⁴,  r² = c² + s².
+//! ```
+//!
+//! Properties (tested in `tests/torque.rs`):
+//!
+//! * `θ_hub` is exact for a rigid rotation of *any* configuration: rotating every `x` by `δφ` rotates
+//!   the pair `(c, s)` by `δφ` (read `c + i s = ∫ X̄ x ds` as complex numbers), so `θ_hub` grows by
+//!   exactly `δφ`. The virtual work of the generalised force `f = −∇Π_τ = M ∇θ_hub` along the rigid
+//!   virtual rotation `δu = δφ e_z × x` is therefore `M δφ`: its moment about the pivot,
+//!   `Σ_a x_a × f_a`, is exactly `M(t)` at every angle and every deformation.
+//! * Zero net force: a translation `δu = d` changes `s` by `(∫_Γ X ds) × d = 0` and `c` by
+//!   `(∫_Γ X ds)·d = 0` because the edge is centred on the pivot, so `Σ_a f_a = 0`.
+//! * The tangent `−M ∇²θ_hub` is symmetric and dense among the hinge-edge degrees of freedom; those
+//!   pairs are listed in [`Term::hessian_entries`] and always written (zeros when `M = 0`).
+//!
+//! Why not the follower pressure load, the normal traction `t = M w(x) / ∫ w x ds` with the weight
+//! `w = x / r_rod` on the current edge (`∫ w x ds = 2 r_rod²/3 = 1.5e-4 m²` for the tutorial)? A
+//! traction that turns with the body is not the gradient of any potential: its tangent is not
+//! symmetric (the Cholesky factorisation of [`crate::linsolve`] needs a symmetric one) and there is
+//! no energy for the line search of [`crate::newton`]. `Π_τ` gives the same resultant (a pure couple
+//! `M`, no net force), the same traction at the reference position (`∇θ_hub = ∇s / c₀` at `u = 0`,
+//! i.e. `t_y = M X_x / ∫ X_x² ds`), and is conservative.
+//!
+//! **Continuity.** `atan2` jumps at ±π, so `Π_τ` would jump by `2πM` when the pendulum turns
+//! through ±180°. `θ_hub` is evaluated relative to a reference angle `φ_ref` close to the current
+//! configuration: `(c, s)` is rotated by `−φ_ref`, `atan2` taken, `φ_ref` added back. The simulation
+//! calls [`Term::begin_step`] with the state at the start of every (sub)step attempt, which stores
+//! the unwrapped `θ_hub` of that state as the new `φ_ref`; within a step (rotations of much less than
+//! π) the energy is smooth. Gradient and Hessian do not depend on `φ_ref`.
+//!
+//! ## Fixed-direction load (`follower = false`)
+//!
+//! The hinge-edge traction `t_y = M(t) X_x / ∫_Γ X_x² ds` in the fixed global `y` direction, a linear
+//! load `Π = −Σ_a f_a·u_a` with `f_{a,y} = M(t) w_{a,x} / ∫_Γ X_x² ds`, `f_{a,x} = 0`. It is
+//! conservative with zero net force; its moment about the pivot is `M` in the reference position and
+//! `M cos θ` once the body has turned by `θ` (`x_x = X_x cos θ` on the rotated edge): the fading
+//! drive of a load that does not turn with the body.
+//!
+//! ## Work
+//!
+//! The work of the load over a step, [`Term::external_work`], is the trapezoidal rule on the forces,
+//! `½ (f_n + f_{n+1})·(u_{n+1} − u_n)` \[J\]: exactly what the average-acceleration rule feeds into the
+//! discrete kinetic energy, so that `Δ(kinetic + strain + gravity)` equals the accumulated work.
+//! For the follower `Σ ½(M_n + M_{n+1}) Δθ_hub` differs from it by `O(Δθ³)` per step (the
+//! trapezoidal rule sees a rigid step `Δφ` as `sin Δφ`); [`Torque::angle_work`] gives that form.
+
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::Term;
+use crate::assembly::Pattern;
+use crate::config;
+use crate::element::Tri6;
+use crate::quadrature::GAUSS3_UNIT;
+use crate::{Error, Mesh};
+
+/// `M(t)` \[N·m\], counter-clockwise positive.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TorqueProfile {
+    /// No torque: `M = 0`.
+    Zero,
+    /// `M = amplitude`.
+    Constant {
+        /// \[N·m\]
+        amplitude: f64,
+    },
+    /// `M = amplitude` for `t ≥ start`, 0 before.
+    Step {
+        /// \[N·m\]
+        amplitude: f64,
+        /// \[s\]
+        start: f64,
+    },
+    /// 0 before `start`, linear to `amplitude` at `start + duration`, `amplitude` after.
+    Ramp {
+        /// \[N·m\]
+        amplitude: f64,
+        /// \[s\]
+        start: f64,
+        /// Rise time \[s\], > 0.
+        duration: f64,
+    },
+    /// `amplitude sin(2π frequency (t − start) + phase)` for `t ≥ start`, 0 before.
+    Sine {
+        /// \[N·m\]
+        amplitude: f64,
+        /// \[s\]
+        start: f64,
+        /// \[Hz\]
+        frequency: f64,
+        /// \[rad\]
+        phase: f64,
+    },
+    /// Piecewise-linear interpolation of `(time, torque)` samples, constant beyond both ends.
+    Table {
+        /// Sample times, strictly increasing \[s\] (at least two).
+        times: Vec<f64>,
+        /// Torques at those times \[N·m\].
+        torques: Vec<f64>,
+    },
+}
+
+impl TorqueProfile {
+    /// The profile described by the `[torque]` section; reads the table file for `table`.
+    pub fn from_config(cfg: &config::Torque) -> Result<Self, Error> {
+        use config::TorqueProfile as P;
+        let amplitude = cfg.amplitude;
+        Ok(match cfg.profile {
+            P::None => Self::Zero,
+            P::Constant => Self::Constant { amplitude },
+            P::Step => Self::Step {
+                amplitude,
+                start: cfg.start,
+            },
+            P::Ramp => {
+                if cfg.duration <= 0.0 {
+                    return Err(Error::Config(format!(
+                        "torque.duration = {}: allowed duration > 0 s for profile = \"ramp\"",
+                        cfg.duration
+                    )));
+                }
+                Self::Ramp {
+                    amplitude,
+                    start: cfg.start,
+                    duration: cfg.duration,
+                }
+            }
+            P::Sine => Self::Sine {
+                amplitude,
+                start: cfg.start,
+                frequency: cfg.frequency,
+                phase: cfg.phase,
+            },
+            P::Table => {
+                let path = cfg.file.as_ref().ok_or_else(|| {
+                    Error::Config("torque.file: required for profile = \"table\" (a CSV time_s,torque_Nm)".into())
+                })?;
+                Self::read_table(path)?
+            }
+        })
+    }
+
+    /// Reads a table profile: a CSV with the header `time_s,torque_Nm` and at least two rows of
+    /// numbers with strictly increasing times. Blank lines and lines starting with `#` are skipped.
+    pub fn read_table(path: &Path) -> Result<Self, Error> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Error::Config(format!(
+                "torque.file = {}: cannot read the torque table: {e}",
+                path.display()
+            ))
+        })?;
+        Self::parse_table(&text, &path.display().to_string())
+    }
+
+    /// Parses the text of a table profile; `source` names the file in error messages.
+    pub fn parse_table(text: &str, source: &str) -> Result<Self, Error> {
+        let err = |line: usize, msg: String| Error::Input(format!("{source}:{line}: {msg}"));
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l.trim()))
+            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+        let (no, header) = lines.next().ok_or_else(|| {
+            Error::Input(format!(
+                "{source}: empty torque table (expected the header time_s,torque_Nm)"
+            ))
+        })?;
+        let names: Vec<&str> = header.split(',').map(str::trim).collect();
+        if names != ["time_s", "torque_Nm"] {
+            return Err(err(no, format!("header `{header}`: expected `time_s,torque_Nm`")));
+        }
+        let (mut times, mut torques) = (Vec::new(), Vec::new());
+        for (no, line) in lines {
+            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+            if fields.len() != 2 {
+                return Err(err(no, format!("`{line}`: expected two values time_s,torque_Nm")));
+            }
+            let mut v = [0.0; 2];
+            for (k, f) in fields.iter().enumerate() {
+                v[k] = f
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| err(no, format!("`{f}` is not a finite number")))?;
+            }
+            if let Some(&last) = times.last() {
+                if v[0] <= last {
+                    return Err(err(
+                        no,
+                        format!(
+                            "time {} s is not after the previous time {last} s (times must increase strictly)",
+                            v[0]
+                        ),
+                    ));
+                }
+            }
+            times.push(v[0]);
+            torques.push(v[1]);
+        }
+        if times.len() < 2 {
+            return Err(Error::Input(format!(
+                "{source}: the torque table has {} row(s); at least 2 are needed",
+                times.len()
+            )));
+        }
+        Ok(Self::Table { times, torques })
+    }
+
+    /// `M(t)` \[N·m\].
+    pub fn value(&self, t: f64) -> f64 {
+        match self {
+            Self::Zero => 0.0,
+            Self::Constant { amplitude } => *amplitude,
+            Self::Step { amplitude, start } => {
+                if t >= *start {
+                    *amplitude
+                } else {
+                    0.0
+                }
+            }
+            Self::Ramp {
+                amplitude,
+                start,
+                duration,
+            } => amplitude * ((t - start) / duration).clamp(0.0, 1.0),
+            Self::Sine {
+                amplitude,
+                start,
+                frequency,
+                phase,
+            } => {
+                if t >= *start {
+                    amplitude * (std::f64::consts::TAU * frequency * (t - start) + phase).sin()
+                } else {
+                    0.0
+                }
+            }
+            Self::Table { times, torques } => {
+                let n = times.len();
+                if t <= times[0] {
+                    return torques[0];
+                }
+                if t >= times[n - 1] {
+                    return torques[n - 1];
+                }
+                // first index with times[k] > t; 1 ≤ k ≤ n − 1
+                let k = times.partition_point(|&x| x <= t);
+                let (t0, t1) = (times[k - 1], times[k]);
+                let (m0, m1) = (torques[k - 1], torques[k]);
+                m0 + (m1 - m0) * (t - t0) / (t1 - t0)
+            }
+        }
+    }
+}
+
+/// How the torque load acts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TorqueMode {
+    /// `Π = −M θ_hub(u)`: a pure couple `M` at every angle.
+    Follower,
+    /// Linear load in the fixed `y` direction: moment `M cos θ`.
+    Fixed,
+}
+
+/// The hinge-edge moments of the hub angle (see the module doc).
+#[derive(Clone, Debug)]
+pub struct HubAngle {
+    /// Nodes on the hinge edge, ascending.
+    pub nodes: Vec<usize>,
+    /// Their reference positions \[m\].
+    pub positions: Vec<[f64; 2]>,
+    /// `∫_Γ X_x N_a ds` \[m²\].
+    pub wx: Vec<f64>,
+    /// `∫_Γ X_y N_a ds` \[m²\].
+    pub wy: Vec<f64>,
+    /// `∫_Γ |X|² ds` (as `Σ_a w_a·X_a`, consistent with the weights) \[m³\].
+    pub c0: f64,
+    /// `∫_Γ X_x² ds` \[m³\].
+    pub xx: f64,
+}
+
+impl HubAngle {
+    /// The weights on boundary `name` of `mesh` (pivot at the origin).
+    pub fn new(mesh: &Mesh, name: &str) -> Result<Self, Error> {
+        let mut acc = std::collections::BTreeMap::<usize, [f64; 2]>::new();
+        for e in mesh.edges_named(name) {
+            let x = e.nodes.map(|n| mesh.nodes[n]);
+            for (s, w) in GAUSS3_UNIT {
+                let n = Tri6::edge_basis(s);
+                let dn = Tri6::edge_basis_derivatives(s);
+                let dx = [0, 1].map(|i| (0..3).map(|a| dn[a] * x[a][i]).sum::<f64>());
+                let ds = w * (dx[0] * dx[0] + dx[1] * dx[1]).sqrt();
+                let p = [0, 1].map(|i| (0..3).map(|a| n[a] * x[a][i]).sum::<f64>());
+                for a in 0..3 {
+                    let v = acc.entry(e.nodes[a]).or_default();
+                    v[0] += p[0] * n[a] * ds;
+                    v[1] += p[1] * n[a] * ds;
+                }
+            }
+        }
+        if acc.is_empty() {
+            return Err(Error::Mesh(format!(
+                "the mesh has no boundary named \"{name}\" for the torque"
+            )));
+        }
+        let nodes: Vec<usize> = acc.keys().copied().collect();
+        let positions: Vec<[f64; 2]> = nodes.iter().map(|&n| mesh.nodes[n]).collect();
+        let wx: Vec<f64> = acc.values().map(|v| v[0]).collect();
+        let wy: Vec<f64> = acc.values().map(|v| v[1]).collect();
+        let c0 = (0..nodes.len())
+            .map(|k| wx[k] * positions[k][0] + wy[k] * positions[k][1])
+            .sum::<f64>();
+        let xx = (0..nodes.len()).map(|k| wx[k] * positions[k][0]).sum::<f64>();
+        if !(c0 > 0.0 && xx > 0.0) {
+            return Err(Error::Mesh(format!(
+                "the boundary \"{name}\" has no extent about the pivot (∫ X_x² ds = {xx:e} m³); the torque needs it"
+            )));
+        }
+        Ok(Self {
+            nodes,
+            positions,
+            wx,
+            wy,
+            c0,
+            xx,
+        })
+    }
+
+    /// `(c, s)` of the displacement `u` \[m³\].
+    pub fn cos_sin(&self, u: &[f64]) -> (f64, f64) {
+        let (mut c, mut s) = (self.c0, 0.0);
+        for (k, &n) in self.nodes.iter().enumerate() {
+            let (ux, uy) = (u[2 * n], u[2 * n + 1]);
+            c += self.wx[k] * ux + self.wy[k] * uy;
+            s += self.wx[k] * uy - self.wy[k] * ux;
+        }
+        (c, s)
+    }
+
+    /// `θ_hub(u)` \[rad\], the branch within π of `reference`.
+    pub fn angle_near(&self, u: &[f64], reference: f64) -> f64 {
+        let (c, s) = self.cos_sin(u);
+        let (sr, cr) = reference.sin_cos();
+        // rotate (c, s) by −reference
+        let (c1, s1) = (c * cr + s * sr, s * cr - c * sr);
+        reference + s1.atan2(c1)
+    }
+
+    /// `∂θ_hub/∂u` on the hinge-edge degrees of freedom, in the order `[x, y]` per node of
+    /// [`HubAngle::nodes`] \[1/m\].
+    pub fn gradient_local(&self, u: &[f64]) -> Vec<f64> {
+        let (c, s) = self.cos_sin(u);
+        let r2 = c * c + s * s;
+        let (a, b) = (c / r2, -s / r2); // ∂θ/∂s, ∂θ/∂c
+        let mut g = Vec::with_capacity(2 * self.nodes.len());
+        for k in 0..self.nodes.len() {
+            // ∇s = (−wy, wx), ∇c = (wx, wy)
+            g.push(a * -self.wy[k] + b * self.wx[k]);
+            g.push(a * self.wx[k] + b * self.wy[k]);
+        }
+        g
+    }
+}
+
+/// The actuator torque as an energy term (see the module doc).
+#[derive(Debug)]
+pub struct Torque {
+    /// `M(t)`.
+    pub profile: TorqueProfile,
+    /// Follower or fixed direction.
+    pub mode: TorqueMode,
+    /// Hinge-edge weights.
+    pub hub: HubAngle,
+    /// Global degrees of freedom of the hinge edge, `[2n, 2n+1]` per node of `hub.nodes`.
+    pub dofs: Vec<usize>,
+    /// `φ_ref` as `f64` bits (interior mutability: [`Term`] is `Send + Sync`).
+    reference: AtomicU64,
+}
+
+impl Torque {
+    /// The torque of `profile` acting through boundary `name` of `mesh`; `reference_angle` \[rad\]
+    /// seeds `φ_ref` (the initial angle of the body, so that `θ_hub` starts on its branch).
+    pub fn new(
+        mesh: &Mesh,
+        name: &str,
+        profile: TorqueProfile,
+        mode: TorqueMode,
+        reference_angle: f64,
+    ) -> Result<Self, Error> {
+        let hub = HubAngle::new(mesh, name)?;
+        let dofs = hub.nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect();
+        Ok(Self {
+            profile,
+            mode,
+            hub,
+            dofs,
+            reference: AtomicU64::new(reference_angle.to_bits()),
+        })
+    }
+
+    /// The term described by the `[torque]` section (mode from `follower`).
+    pub fn from_config(mesh: &Mesh, name: &str, cfg: &config::Torque, reference_angle: f64) -> Result<Self, Error> {
+        let mode = if cfg.follower {
+            TorqueMode::Follower
+        } else {
+            TorqueMode::Fixed
+        };
+        Self::new(mesh, name, TorqueProfile::from_config(cfg)?, mode, reference_angle)
+    }
+
+    /// The current reference angle `φ_ref` \[rad\].
+    pub fn reference_angle(&self) -> f64 {
+        f64::from_bits(self.reference.load(Ordering::Relaxed))
+    }
+
+    /// Sets `φ_ref` \[rad\].
+    pub fn set_reference_angle(&self, phi: f64) {
+        self.reference.store(phi.to_bits(), Ordering::Relaxed);
+    }
+
+    /// `θ_hub(u)` on the branch of the current `φ_ref` \[rad\].
+    pub fn hub_angle(&self, u: &[f64]) -> f64 {
+        self.hub.angle_near(u, self.reference_angle())
+    }
+
+    /// The generalised force `f = −∂Π/∂u` on the hinge-edge degrees of freedom ([`Torque::dofs`]) \[N\].
+    pub fn local_force(&self, u: &[f64], t: f64) -> Vec<f64> {
+        let m = self.profile.value(t);
+        match self.mode {
+            TorqueMode::Follower => self.hub.gradient_local(u).into_iter().map(|g| m * g).collect(),
+            TorqueMode::Fixed => self.hub.wx.iter().flat_map(|w| [0.0, m * w / self.hub.xx]).collect(),
+        }
+    }
+
+    /// The moment about the pivot of the generalised force, `Σ_a x_a × f_a` with `x = X + u` \[N·m\].
+    pub fn moment_about_pivot(&self, u: &[f64], t: f64) -> f64 {
+        let f = self.local_force(u, t);
+        self.hub
+            .nodes
+            .iter()
+            .zip(&self.hub.positions)
+            .enumerate()
+            .map(|(k, (&n, p))| {
+                let x = [p[0] + u[2 * n], p[1] + u[2 * n + 1]];
+                x[0] * f[2 * k + 1] - x[1] * f[2 * k]
+            })
+            .sum()
+    }
+
+    /// `½ (M(t0) + M(t1)) (θ_hub(u1) − θ_hub(u0))` \[J\]: the work of the follower torque over a step
+    /// measured on the hub angle (the simulation reports [`Term::external_work`] instead; see the
+    /// module doc).
+    pub fn angle_work(&self, u0: &[f64], t0: f64, u1: &[f64], t1: f64) -> f64 {
+        let phi = self.reference_angle();
+        let th0 = self.hub.angle_near(u0, phi);
+        let th1 = self.hub.angle_near(u1, th0);
+        0.5 * (self.profile.value(t0) + self.profile.value(t1)) * (th1 - th0)
+    }
+}
+
+impl Term for Torque {
+    fn name(&self) -> &'static str {
+        "torque"
+    }
+
+    fn energy(&self, u: &[f64], t: f64) -> f64 {
+        let m = self.profile.value(t);
+        match self.mode {
+            TorqueMode::Follower => -m * self.hub_angle(u),
+            TorqueMode::Fixed => {
+                let uy: f64 = self
+                    .hub
+                    .nodes
+                    .iter()
+                    .zip(&self.hub.wx)
+                    .map(|(&n, w)| w * u[2 * n + 1])
+                    .sum();
+                -m * uy / self.hub.xx
+            }
+        }
+    }
+
+    fn add_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) {
+        for (d, f) in self.dofs.iter().zip(self.local_force(u, t)) {
+            g[*d] -= f;
+        }
+    }
+
+    fn add_hessian(&self, u: &[f64], t: f64, pattern: &Pattern, values: &mut [f64]) {
+        if self.mode == TorqueMode::Fixed {
+            return;
+        }
+        let m = self.profile.value(t);
+        let (c, s) = self.hub.cos_sin(u);
+        let r2 = c * c + s * s;
+        let r4 = r2 * r2;
+        let (t_ss, t_cc, t_sc) = (-2.0 * c * s / r4, 2.0 * c * s / r4, (s * s - c * c) / r4);
+        let nd = self.dofs.len();
+        let mut gs = vec![0.0; nd];
+        let mut gc = vec![0.0; nd];
+        for k in 0..self.hub.nodes.len() {
+            gs[2 * k] = -self.hub.wy[k];
+            gs[2 * k + 1] = self.hub.wx[k];
+            gc[2 * k] = self.hub.wx[k];
+            gc[2 * k + 1] = self.hub.wy[k];
+        }
+        for i in 0..nd {
+            for j in i..nd {
+                let h = t_ss * gs[i] * gs[j] + t_sc * (gs[i] * gc[j] + gc[i] * gs[j]) + t_cc * gc[i] * gc[j];
+                let pos = pattern
+                    .position(self.dofs[i], self.dofs[j])
+                    .expect("torque Hessian entries are in the pattern (Term::hessian_entries)");
+                values[pos] -= m * h;
+            }
+        }
+    }
+
+    fn hessian_entries(&self) -> Vec<(usize, usize)> {
+        if self.mode == TorqueMode::Fixed {
+            return Vec::new();
+        }
+        let mut e = Vec::with_capacity(self.dofs.len() * (self.dofs.len() + 1) / 2);
+        for (i, &a) in self.dofs.iter().enumerate() {
+            for &b in &self.dofs[i..] {
+                e.push((a, b));
+            }
+        }
+        e
+    }
+
+    fn begin_step(&self, u: &[f64], _t: f64) {
+        self.set_reference_angle(self.hub_angle(u));
+    }
+
+    fn external_work(&self, u0: &[f64], t0: f64, u1: &[f64], t1: f64) -> f64 {
+        let f0 = self.local_force(u0, t0);
+        let f1 = self.local_force(u1, t1);
+        self.dofs
+            .iter()
+            .enumerate()
+            .map(|(k, &d)| 0.5 * (f0[k] + f1[k]) * (u1[d] - u0[d]))
+            .sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_interpolates_linearly_and_extrapolates_constantly() {
+        let p = TorqueProfile::parse_table("time_s,torque_Nm\n0.5,1\n1.0,3\n2.0,-1\n", "t.csv").unwrap();
+        assert_eq!(p.value(0.0), 1.0);
+        assert_eq!(p.value(0.5), 1.0);
+        assert!((p.value(0.75) - 2.0).abs() < 1e-15);
+        assert_eq!(p.value(1.0), 3.0);
+        assert!((p.value(1.5) - 1.0).abs() < 1e-15);
+        assert_eq!(p.value(5.0), -1.0);
+    }
+}
