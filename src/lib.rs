@@ -30,6 +30,7 @@
 //! [`post`] → [`io`].
 #![warn(missing_docs)]
 
+pub mod commands;
 pub mod config;
 pub mod error;
 pub mod geometry;

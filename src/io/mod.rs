@@ -1,5 +1,7 @@
 //! Writers and readers: VTU/PVD for ParaView, Gmsh `.msh`, CSV, plots, animations, the HTML viewer.
 
+pub mod gmsh;
+pub mod vtm;
 pub mod vtu;
 
 /// Values of one field at every mesh node (vertices and mid-edge nodes).
