@@ -709,9 +709,27 @@ fn split_pieces(a: &[Edge], b: &[Edge]) -> (Vec<Edge>, Vec<Edge>) {
 fn cut(edges: &[Edge], params: Vec<Vec<f64>>) -> Vec<Edge> {
     let mut out = Vec::new();
     for (e, mut ts) in edges.iter().zip(params) {
-        ts.retain(|&t| t > 1e-10 && t < 1.0 - 1e-10);
+        let closed = matches!(e.curve, Curve::Arc { sweep, .. } if (sweep.abs() - 2.0 * PI).abs() < 1e-12);
+        if closed {
+            // Cuts at the start point of a full circle are real cuts; 1 is the same point as 0.
+            ts = ts.into_iter().map(|t| if t > 1.0 - 1e-10 { 0.0 } else { t }).collect();
+        } else {
+            ts.retain(|&t| t > 1e-10 && t < 1.0 - 1e-10);
+        }
         ts.sort_by(f64::total_cmp);
         ts.dedup_by(|x, y| (*x - *y).abs() < 1e-10);
+        if closed && !ts.is_empty() {
+            // A full circle: pieces run from cut to cut, the last one wrapping past the start.
+            let first = ts[0];
+            for k in 0..ts.len() {
+                let end = if k + 1 < ts.len() { ts[k + 1] } else { first + 1.0 };
+                out.push(Edge {
+                    curve: e.curve.sub(ts[k], end),
+                    ..e.clone()
+                });
+            }
+            continue;
+        }
         let mut prev = 0.0;
         for t in ts.into_iter().chain([1.0]) {
             out.push(Edge {
