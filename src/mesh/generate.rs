@@ -304,3 +304,53 @@ fn fix_jacobians(mesh: &mut Mesh) -> Result<usize, Error> {
     }
     Ok(straightened)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn one_triangle(mid_on_edge0: Point) -> Mesh {
+        Mesh {
+            nodes: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], mid_on_edge0, [0.5, 0.5], [0.0, 0.5]],
+            num_vertices: 3,
+            triangles: vec![[0, 1, 2, 3, 4, 5]],
+            boundary_edges: Vec::new(),
+            boundary_names: Vec::new(),
+            region_name: "test".into(),
+            order: 2,
+        }
+    }
+
+    #[test]
+    fn an_element_curved_into_itself_gets_its_edge_straightened() {
+        // The mid node of edge 0→1 pulled far inside makes det J negative near vertex 0.
+        let mut mesh = one_triangle([0.5, 0.9]);
+        assert!(mesh.min_jacobian(0) <= 0.0);
+        assert_eq!(fix_jacobians(&mut mesh).expect("fixable"), 1);
+        assert_eq!(mesh.nodes[3], [0.5, 0.0]);
+        assert!(mesh.min_jacobian(0) > 0.0);
+    }
+
+    #[test]
+    fn a_mildly_curved_element_is_left_alone() {
+        let mut mesh = one_triangle([0.5, -0.05]);
+        assert_eq!(fix_jacobians(&mut mesh).expect("valid"), 0);
+        assert_eq!(mesh.nodes[3], [0.5, -0.05]);
+    }
+
+    #[test]
+    fn curve_division_follows_the_size_field() {
+        let shape = Shape::rectangle(0.0, 0.0, 1.0, 1.0);
+        let field = SizeField::new(&shape, 0.1, 0.3);
+        let ts = divide(&shape.edges[0].curve, &field);
+        assert_eq!(ts.len(), 11, "a unit edge at h = 0.1 gets 10 pieces");
+        let arc = Curve::Arc {
+            center: [0.0, 0.0],
+            radius: 1.0,
+            start: 0.0,
+            sweep: 2.0 * std::f64::consts::PI,
+        };
+        let field = SizeField::new(&shape, 10.0, 0.3);
+        assert_eq!(divide(&arc, &field).len(), 9, "at least one piece per 45° of arc");
+    }
+}
