@@ -24,10 +24,19 @@ fn unknown_keys_are_rejected_with_their_name() {
     let dir = scratch("unknown");
     let cfg = dir.join("bad.toml");
     std::fs::write(&cfg, "[mesh]\nmax_sise = 0.01\n").unwrap();
-    let o = bin().args(["run", "--config"]).arg(&cfg).arg("--out").arg(dir.join("out")).output().unwrap();
+    let o = bin()
+        .args(["run", "--config"])
+        .arg(&cfg)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
     assert!(!o.status.success());
     assert!(stderr(&o).contains("max_sise"), "{}", stderr(&o));
-    assert!(!dir.join("out").join("results.csv").exists(), "nothing is computed for a bad configuration");
+    assert!(
+        !dir.join("out").join("results.csv").exists(),
+        "nothing is computed for a bad configuration"
+    );
 }
 
 #[test]
@@ -52,13 +61,24 @@ fn a_failing_step_names_step_time_and_residual_and_keeps_the_rows_written() {
     let out = dir.join("out");
     // one Newton iteration can never pass the residual check, and no cut-back is allowed
     let o = bin()
-        .args(["run", "--quiet", "--set", "solver.max_iterations=1", "--set", "solver.max_cutbacks=0", "--out"])
+        .args([
+            "run",
+            "--quiet",
+            "--set",
+            "solver.max_iterations=1",
+            "--set",
+            "solver.max_cutbacks=0",
+            "--out",
+        ])
         .arg(&out)
         .output()
         .unwrap();
     assert!(!o.status.success());
     let msg = stderr(&o);
-    assert!(msg.contains("time step 1") && msg.contains("t = 0.000000 s") && msg.contains("residual"), "{msg}");
+    assert!(
+        msg.contains("time step 1") && msg.contains("t = 0.000000 s") && msg.contains("residual"),
+        "{msg}"
+    );
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 2, "header and the initial row: {csv}");
@@ -74,7 +94,10 @@ fn init_writes_a_commented_configuration_that_reads_back_as_the_defaults() {
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&file).unwrap();
     assert!(text.contains("# m/s^2") || text.contains("m/s^2"));
-    assert_eq!(pendulum_fem::Config::load(Some(&file), &[]).unwrap(), pendulum_fem::Config::default());
+    assert_eq!(
+        pendulum_fem::Config::load(Some(&file), &[]).unwrap(),
+        pendulum_fem::Config::default()
+    );
     // a second init refuses to overwrite
     let o = bin().arg("init").arg(&file).output().unwrap();
     assert!(!o.status.success() && stderr(&o).contains("--force"));
