@@ -22,6 +22,17 @@ struct Cli {
 enum Command {
     /// Simulate the swing and write results.csv (and the other outputs) to a fresh folder.
     Run(RunArgs),
+    /// Mesh the pendulum and write mesh.vtu/mesh.vtm (ParaView) and mesh.msh (Gmsh 4.1).
+    Mesh {
+        #[command(flatten)]
+        cfg: ConfigArgs,
+        /// Output folder (default: `mesh`).
+        #[arg(long, short = 'o', value_name = "DIR", default_value = "mesh")]
+        out: PathBuf,
+        /// Print the summary as one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
     /// Measure speed and memory (see `pendulum-fem bench --help`).
     Bench(BenchArgs),
     /// Write a commented configuration file listing every key, its default and its unit.
@@ -183,6 +194,9 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => run(args),
         Some(Command::Init { file, force }) => init(file, force),
         Some(Command::Bench(args)) => bench(args),
+        Some(Command::Mesh { cfg, out, json }) => {
+            load(&cfg).and_then(|c| pendulum_fem::commands::mesh::mesh_command(&c, &out, json))
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

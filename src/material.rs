@@ -167,6 +167,30 @@ impl Material {
         }
     }
 
+    /// `ψ` and `P` without the tangent (closed form for Neo-Hookean).
+    #[allow(non_snake_case)]
+    pub fn stress(&self, F: &VecF) -> (f64, [f64; 4]) {
+        let J = det(F);
+        if J <= 0.0 {
+            return (f64::INFINITY, [0.0; 4]);
+        }
+        match self.model {
+            MaterialModel::NeoHookean => {
+                let (lambda, mu) = (self.lambda, self.mu);
+                let jk = J.powf(-lambda / mu);
+                let jk1 = jk / J;
+                let c = cofactor(F);
+                let tr_c = F.iter().map(|x| x * x).sum::<f64>();
+                let energy = 0.5 * mu * (tr_c - 2.0) + mu * mu / lambda * (jk - 1.0);
+                (energy, [0, 1, 2, 3].map(|v| mu * (F[v] - jk1 * c[v])))
+            }
+            MaterialModel::SaintVenantKirchhoff => {
+                let st = self.stress_tangent_ad(F);
+                (st.energy, st.stress)
+            }
+        }
+    }
+
     /// Cauchy stress `σ = J⁻¹ P Fᵀ` as `[σxx, σyy, σxy]` and the out-of-plane normal stress `σzz`
     /// (zero in plane stress; in plane strain the value that keeps `ε_zz = 0`) \[Pa\].
     #[allow(non_snake_case)]
@@ -175,7 +199,7 @@ impl Material {
         if J <= 0.0 {
             return ([f64::NAN; 3], f64::NAN);
         }
-        let P = self.stress_tangent(F).stress;
+        let P = self.stress(F).1;
         // (P Fᵀ)_ij = Σ_K P_iK F_jK
         let s00 = (P[0] * F[0] + P[1] * F[1]) / J;
         let s11 = (P[2] * F[2] + P[3] * F[3]) / J;

@@ -174,3 +174,17 @@ fn plane_stress_von_mises_is_the_tutorial_formula() {
     let tutorial = (s[0] * s[0] + s[1] * s[1] - s[0] * s[1] + 3.0 * s[2] * s[2]).sqrt();
     assert!((von_mises(s, 0.0) - tutorial).abs() < 1e-9 * tutorial);
 }
+
+#[test]
+fn stress_only_path_equals_the_full_evaluation() {
+    for m in materials() {
+        for f in SAMPLES {
+            let (e, p) = m.stress(&f);
+            let st = m.stress_tangent(&f);
+            assert!((e - st.energy).abs() <= 1e-12 * m.mu);
+            for v in 0..4 {
+                assert!((p[v] - st.stress[v]).abs() <= 1e-12 * m.mu);
+            }
+        }
+    }
+}

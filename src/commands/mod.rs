@@ -2,4 +2,5 @@
 //! arguments and prints errors).
 
 pub mod bench;
+pub mod mesh;
 pub mod run;

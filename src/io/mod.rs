@@ -1,6 +1,8 @@
 //! Writers and readers: VTU/PVD for ParaView, Gmsh `.msh`, CSV, plots, animations, the HTML viewer.
 
 pub mod csv;
+pub mod gmsh;
+pub mod vtm;
 pub mod vtu;
 
 /// Values of one field at every mesh node (vertices and mid-edge nodes).

@@ -11,9 +11,13 @@
 //! hinge edge, "contact_head" for the outer head circle, "default" for the rest). The whole domain
 //! is one region, [`Mesh::region_name`] ("pendulum").
 
+pub mod bench;
 pub mod generate;
+mod measure;
+mod refine;
+pub mod size;
 
-pub use generate::generate;
+pub use generate::{generate, generate_with_stats, mesh_shape, MeshStats};
 
 /// One edge of the boundary, oriented with the domain on its left.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,7 +1,109 @@
-//! Test fixtures: small structured meshes with the names the solver expects.
+//! Shared fixtures and mesh checks for the integration tests.
 #![allow(dead_code)]
 
-use pendulum_fem::mesh::{BoundaryEdge, Mesh};
+use std::collections::HashMap;
+
+use pendulum_fem::mesh::BoundaryEdge;
+use pendulum_fem::{Config, Mesh};
+
+/// The tutorial configuration (all defaults).
+pub fn tutorial() -> Config {
+    Config::default()
+}
+
+/// A configuration with the given geometry and otherwise default (geometry-derived) sizes.
+pub fn with_geometry(rod: f64, head: f64, hole: f64, distance: f64) -> Config {
+    let mut cfg = Config::default();
+    cfg.geometry.rod_half_width = rod;
+    cfg.geometry.head_radius = head;
+    cfg.geometry.hole_radius = hole;
+    cfg.geometry.head_center_distance = distance;
+    cfg
+}
+
+/// Edge → number of triangles using it, with `(start, end)` vertex pairs sorted.
+pub fn edge_use(mesh: &Mesh) -> HashMap<(usize, usize), usize> {
+    let mut m = HashMap::new();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *m.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    m
+}
+
+/// Twice the signed area of the straight triangle through the vertices.
+pub fn signed_area2(mesh: &Mesh, t: usize) -> f64 {
+    let [a, b, c] = [0, 1, 2].map(|k| mesh.nodes[mesh.triangles[t][k]]);
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+/// Asserts conformity: interior edges shared by two triangles, boundary edges (exactly the
+/// mesh's boundary edges) by one, counter-clockwise triangles, consistent mid nodes, and returns
+/// the Euler characteristic `V − E + F`.
+pub fn assert_conforming(mesh: &Mesh) -> i64 {
+    let uses = edge_use(mesh);
+    let boundary: HashMap<(usize, usize), usize> = mesh
+        .boundary_edges
+        .iter()
+        .map(|e| ((e.nodes[0].min(e.nodes[1]), e.nodes[0].max(e.nodes[1])), 1))
+        .collect();
+    assert_eq!(
+        boundary.len(),
+        mesh.boundary_edges.len(),
+        "a boundary edge is listed twice"
+    );
+    for (e, &n) in &uses {
+        let expected = if boundary.contains_key(e) { 1 } else { 2 };
+        assert_eq!(n, expected, "edge {e:?} is used by {n} triangles");
+    }
+    for t in 0..mesh.triangles.len() {
+        assert!(signed_area2(mesh, t) > 0.0, "triangle {t} is not counter-clockwise");
+        for &n in &mesh.triangles[t][..3] {
+            assert!(n < mesh.num_vertices, "corner node {n} of triangle {t} is not a vertex");
+        }
+        for &n in &mesh.triangles[t][3..] {
+            assert!(
+                n >= mesh.num_vertices && n < mesh.num_nodes(),
+                "mid node {n} of triangle {t}"
+            );
+        }
+    }
+    // One mid node per edge, shared by both triangles.
+    let mut mid_of: HashMap<(usize, usize), usize> = HashMap::new();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let m = *mid_of.entry((a.min(b), a.max(b))).or_insert(t[3 + k]);
+            assert_eq!(m, t[3 + k], "edge ({a}, {b}) has two mid nodes");
+        }
+    }
+    assert_eq!(
+        mid_of.len(),
+        mesh.num_nodes() - mesh.num_vertices,
+        "unused or missing mid nodes"
+    );
+    // Boundary edges: oriented with the domain on the left, pointing at their triangle.
+    for e in &mesh.boundary_edges {
+        let t = mesh.triangles[e.triangle];
+        let k = e.local_edge;
+        assert_eq!(
+            [t[k], t[(k + 1) % 3], t[3 + k]],
+            e.nodes,
+            "boundary edge does not match its triangle"
+        );
+    }
+    mesh.num_vertices as i64 - uses.len() as i64 + mesh.triangles.len() as i64
+}
+
+/// Length of the straight chord of a boundary edge.
+pub fn chord(mesh: &Mesh, nodes: [usize; 3]) -> f64 {
+    let (a, b) = (mesh.nodes[nodes[0]], mesh.nodes[nodes[1]]);
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+// ---- structured fixture used by the solver tests ----
 
 /// A rectangle `[−w, w] × [−l, 0]` hanging from its top edge (named "rotation"; the other sides
 /// "default"), `nx × ny` cells each split into two six-node triangles, straight mid-edge nodes.
