@@ -181,3 +181,120 @@ pub fn bench_memory(cfg: &Config, short: usize, long: usize) -> Result<(), Error
     }
     Ok(())
 }
+
+/// CPU time (user + system) of this process so far \[s\] (Linux, 100 ticks per second; `None`
+/// elsewhere). Less sensitive than wall time to other processes on a busy machine.
+pub fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // fields after the parenthesised command name; utime and stime are fields 14 and 15
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+/// Times of [`bench_torque`]: the same steps without and with the actuator torque.
+#[derive(Clone, Debug, Default)]
+pub struct TorqueBench {
+    /// Steps timed per run.
+    pub steps: usize,
+    /// Best wall time of the steps without torque \[s\].
+    pub seconds_without: f64,
+    /// Best wall time of the steps with the follower torque \[s\].
+    pub seconds_with: f64,
+    /// Best CPU time (all threads) of the steps without and with torque \[s\].
+    pub cpu_seconds: (f64, f64),
+    /// Newton iterations without and with torque.
+    pub iterations: (usize, usize),
+    /// Stored entries of the Cholesky factor without and with torque.
+    pub factor_nnz: (usize, usize),
+}
+
+impl TorqueBench {
+    /// `seconds_with / seconds_without − 1`.
+    pub fn overhead(&self) -> f64 {
+        self.seconds_with / self.seconds_without - 1.0
+    }
+}
+
+/// Times `steps` steps of `cfg` without torque and with a constant follower torque of `amplitude`
+/// \[N m\] (set-up excluded), alternating, best of `repeats`; prints and returns the figures. With
+/// `amplitude = 0` both runs follow the same motion (same Newton iterations), so the difference is
+/// the cost of the term and of its denser pattern alone.
+pub fn bench_torque(cfg: &Config, steps: usize, repeats: usize, amplitude: f64) -> Result<TorqueBench, Error> {
+    let mesh = mesh::generate(cfg)?;
+    let mut without = cfg.clone();
+    without.torque = Default::default();
+    let mut with = cfg.clone();
+    with.torque.profile = crate::config::TorqueProfile::Constant;
+    with.torque.amplitude = amplitude;
+    with.torque.follower = true;
+    let mut out = TorqueBench {
+        steps,
+        seconds_without: f64::INFINITY,
+        seconds_with: f64::INFINITY,
+        cpu_seconds: (f64::INFINITY, f64::INFINITY),
+        ..Default::default()
+    };
+    for _ in 0..repeats.max(1) {
+        for (k, c) in [&without, &with].into_iter().enumerate() {
+            let mut sim = Simulation::from_config(c, mesh.clone())?;
+            let start = Instant::now();
+            let cpu0 = cpu_seconds().unwrap_or(f64::NAN);
+            for _ in 0..steps {
+                sim.advance()?;
+            }
+            let secs = start.elapsed().as_secs_f64();
+            let cpu = cpu_seconds().unwrap_or(f64::NAN) - cpu0;
+            let nnz = sim.solver.factor_nnz();
+            let tm = sim.timings();
+            if std::env::var_os("PENDULUM_DEBUG").is_some() {
+                eprintln!(
+                    "  {}: assembly {:.3} s, factorisation {:.3} s, solve {:.3} s, line search {:.3} s, residual {:.3} s",
+                    if k == 0 { "without" } else { "with" },
+                    tm.assembly,
+                    tm.factorization,
+                    tm.solve,
+                    tm.line_search,
+                    tm.residual
+                );
+            }
+            if k == 0 {
+                out.cpu_seconds.0 = out.cpu_seconds.0.min(cpu);
+                out.seconds_without = out.seconds_without.min(secs);
+                out.iterations.0 = sim.total_iterations;
+                out.factor_nnz.0 = nnz;
+            } else {
+                out.cpu_seconds.1 = out.cpu_seconds.1.min(cpu);
+                out.seconds_with = out.seconds_with.min(secs);
+                out.iterations.1 = sim.total_iterations;
+                out.factor_nnz.1 = nnz;
+            }
+        }
+    }
+    println!(
+        "{steps} steps: without torque {:.3} s ({} Newton iterations, {:.2} ms each, factor nnz {}); \
+         with {amplitude} N m {:.3} s ({} iterations, {:.2} ms each, factor nnz {}): overhead per step {:+.1} %, \
+         per iteration {:+.1} %",
+        out.seconds_without,
+        out.iterations.0,
+        1e3 * out.seconds_without / out.iterations.0.max(1) as f64,
+        out.factor_nnz.0,
+        out.seconds_with,
+        out.iterations.1,
+        1e3 * out.seconds_with / out.iterations.1.max(1) as f64,
+        out.factor_nnz.1,
+        100.0 * out.overhead(),
+        100.0
+            * ((out.seconds_with / out.iterations.1.max(1) as f64)
+                / (out.seconds_without / out.iterations.0.max(1) as f64)
+                - 1.0)
+    );
+    println!(
+        "  CPU time: without {:.2} s, with {:.2} s: {:+.1} %",
+        out.cpu_seconds.0,
+        out.cpu_seconds.1,
+        100.0 * (out.cpu_seconds.1 / out.cpu_seconds.0 - 1.0)
+    );
+    Ok(out)
+}
