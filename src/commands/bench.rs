@@ -67,7 +67,10 @@ pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, an
         "best of {repeats}: {:.3} s for {} steps, {} unknowns",
         s.seconds_total, s.steps, s.unknowns
     );
-    println!("per Newton iteration ({} iterations):", s.newton_iterations);
+    println!(
+        "per Newton iteration ({} iterations, {} factorisations):",
+        s.newton_iterations, s.factorizations
+    );
     println!(
         "  assembly (energy, gradient, tangent) {:.3} ms",
         1e3 * t.assembly / its

@@ -38,6 +38,8 @@ pub struct RunSummary {
     pub steps: usize,
     /// Newton iterations (linear solves) over all steps.
     pub newton_iterations: usize,
+    /// Numeric factorisations over the run.
+    pub factorizations: usize,
     /// Step cut-backs.
     pub cutbacks: usize,
     /// Final proxy angle \[rad\].
@@ -128,6 +130,7 @@ pub fn run_with(
     summary.files.push(csv.finish()?);
     summary.steps = sim.step;
     summary.newton_iterations = sim.total_iterations;
+    summary.factorizations = sim.total_factorizations;
     summary.cutbacks = sim.cutbacks;
     summary.period = period.period();
     summary.energy_drift = if kin_max > 0.0 { drift / kin_max } else { 0.0 };
