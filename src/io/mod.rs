@@ -1,6 +1,17 @@
 //! Writers and readers: VTU/PVD for ParaView, Gmsh `.msh`, CSV, plots, animations, the HTML viewer.
 
+pub mod anim;
+mod font;
+pub mod outdir;
+pub mod plot;
+pub mod pvd;
+mod raster;
+pub mod viewer;
 pub mod vtu;
+pub mod writers;
+
+pub use outdir::prepare_output_dir;
+pub use writers::FrameWriters;
 
 /// Values of one field at every mesh node (vertices and mid-edge nodes).
 #[derive(Clone, Copy, Debug)]
