@@ -1,12 +1,13 @@
 //! The frame writers: plots, animations, ParaView files, output folders and flags.
 
-mod common;
+#[path = "common/plate.rs"]
+mod plate;
 
 use std::collections::HashSet;
 use std::path::Path;
 use std::time::Instant;
 
-use common::*;
+use plate::*;
 use pendulum_fem::config::Output;
 use pendulum_fem::io::{prepare_output_dir, FrameWriters};
 

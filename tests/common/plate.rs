@@ -1,4 +1,4 @@
-//! Fixtures for the output tests: a hand-built six-node-triangle mesh of a rectangular plate
+//! Fixtures for the output tests (used as `#[path = "common/plate.rs"] mod plate;`): a hand-built
 //! hanging from the origin, synthetic frames (a rigid swing θ(t) = 0.35 cos(6.6 t) plus a small
 //! elastic field) and a synthetic `results.csv`.
 #![allow(dead_code)]
