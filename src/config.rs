@@ -56,7 +56,13 @@ pub struct Geometry {
 
 impl Default for Geometry {
     fn default() -> Self {
-        Self { rod_half_width: 0.015, head_radius: 0.06, hole_radius: 0.03, head_center_distance: 0.24, thickness: 0.01 }
+        Self {
+            rod_half_width: 0.015,
+            head_radius: 0.06,
+            hole_radius: 0.03,
+            head_center_distance: 0.24,
+            thickness: 0.01,
+        }
     }
 }
 
@@ -232,7 +238,11 @@ pub struct Initial {
 
 impl Default for Initial {
     fn default() -> Self {
-        Self { angle_deg: 20.0, angular_velocity: 0.0, acceleration: InitialAcceleration::Rigid }
+        Self {
+            angle_deg: 20.0,
+            angular_velocity: 0.0,
+            acceleration: InitialAcceleration::Rigid,
+        }
     }
 }
 
@@ -273,7 +283,11 @@ pub struct Solver {
 
 impl Default for Solver {
     fn default() -> Self {
-        Self { tolerance: 1e-6, max_iterations: 20, max_cutbacks: 6 }
+        Self {
+            tolerance: 1e-6,
+            max_iterations: 20,
+            max_cutbacks: 6,
+        }
     }
 }
 
@@ -411,14 +425,20 @@ impl Config {
             return Err(range(
                 "geometry.hole_radius",
                 g.hole_radius,
-                &format!("0 <= hole_radius < head_radius = {} m (the hole must lie inside the head)", g.head_radius),
+                &format!(
+                    "0 <= hole_radius < head_radius = {} m (the hole must lie inside the head)",
+                    g.head_radius
+                ),
             ));
         }
         if g.rod_half_width >= g.head_radius {
             return Err(range(
                 "geometry.rod_half_width",
                 g.rod_half_width,
-                &format!("0 < rod_half_width < head_radius = {} m (the rod must be narrower than the head)", g.head_radius),
+                &format!(
+                    "0 < rod_half_width < head_radius = {} m (the rod must be narrower than the head)",
+                    g.head_radius
+                ),
             ));
         }
         if g.hole_radius > 0.0 && g.rod_half_width >= g.hole_radius {
@@ -443,7 +463,10 @@ impl Config {
         let m = &self.mesh;
         positive("mesh.max_size", m.max_size, "m")?;
         if !(m.order == 1 || m.order == 2) {
-            return Err(Error::Config(format!("mesh.order = {}: allowed values are 1 and 2", m.order)));
+            return Err(Error::Config(format!(
+                "mesh.order = {}: allowed values are 1 and 2",
+                m.order
+            )));
         }
         for (key, v) in [
             ("mesh.rod_size", m.rod_size),
@@ -458,9 +481,16 @@ impl Config {
         }
         within("mesh.grading", m.grading, 0.05, 1.0, "")?;
         let sizes = self.mesh_sizes();
-        let smallest = [sizes.max_size, sizes.rod, sizes.head, sizes.hinge_edge, sizes.hinge_corner, sizes.circle_edge]
-            .into_iter()
-            .fold(f64::INFINITY, f64::min);
+        let smallest = [
+            sizes.max_size,
+            sizes.rod,
+            sizes.head,
+            sizes.hinge_edge,
+            sizes.hinge_corner,
+            sizes.circle_edge,
+        ]
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
         let scale = g.head_center_distance + g.head_radius;
         if smallest < scale * 1e-5 {
             return Err(Error::Config(format!(
@@ -477,7 +507,11 @@ impl Config {
             Plane::Strain => 0.5,
         };
         if !(mat.poisson_ratio > -1.0 && mat.poisson_ratio < nu_max) {
-            return Err(range("material.poisson_ratio", mat.poisson_ratio, "-1 < poisson_ratio < 0.5"));
+            return Err(range(
+                "material.poisson_ratio",
+                mat.poisson_ratio,
+                "-1 < poisson_ratio < 0.5",
+            ));
         }
         if mat.model == MaterialModel::NeoHookean && mat.poisson_ratio <= 0.0 {
             return Err(range(
@@ -493,7 +527,11 @@ impl Config {
         positive("time.dt", self.time.dt, "s")?;
         non_negative("time.end", self.time.end, "s")?;
         if self.time.end > 0.0 && self.time.dt > self.time.end {
-            return Err(range("time.dt", self.time.dt, &format!("0 < dt <= time.end = {} s", self.time.end)));
+            return Err(range(
+                "time.dt",
+                self.time.dt,
+                &format!("0 < dt <= time.end = {} s", self.time.end),
+            ));
         }
         if self.time.steps() > 10_000_000 {
             return Err(Error::Config(format!(
@@ -512,7 +550,10 @@ impl Config {
             )));
         }
         if s.max_cutbacks > 30 {
-            return Err(Error::Config(format!("solver.max_cutbacks = {}: allowed range 0 to 30", s.max_cutbacks)));
+            return Err(Error::Config(format!(
+                "solver.max_cutbacks = {}: allowed range 0 to 30",
+                s.max_cutbacks
+            )));
         }
         let t = &self.torque;
         finite("torque.amplitude", t.amplitude)?;
@@ -521,13 +562,23 @@ impl Config {
         non_negative("torque.frequency", t.frequency, "Hz")?;
         finite("torque.phase", t.phase)?;
         if t.profile == TorqueProfile::Ramp && t.duration <= 0.0 {
-            return Err(range("torque.duration", t.duration, "duration > 0 s for profile = \"ramp\""));
+            return Err(range(
+                "torque.duration",
+                t.duration,
+                "duration > 0 s for profile = \"ramp\"",
+            ));
         }
         if t.profile == TorqueProfile::Sine && t.frequency <= 0.0 {
-            return Err(range("torque.frequency", t.frequency, "frequency > 0 Hz for profile = \"sine\""));
+            return Err(range(
+                "torque.frequency",
+                t.frequency,
+                "frequency > 0 Hz for profile = \"sine\"",
+            ));
         }
         if t.profile == TorqueProfile::Table && t.file.is_none() {
-            return Err(Error::Config("torque.file: required for profile = \"table\" (a CSV time_s,torque_Nm)".into()));
+            return Err(Error::Config(
+                "torque.file: required for profile = \"table\" (a CSV time_s,torque_Nm)".into(),
+            ));
         }
         let o = &self.output;
         if o.every == 0 {
@@ -535,11 +586,18 @@ impl Config {
         }
         if let Some(mag) = o.magnification {
             if !(mag >= 0.0 && mag.is_finite()) {
-                return Err(range("output.magnification", mag, "magnification >= 0 (omit the key for automatic)"));
+                return Err(range(
+                    "output.magnification",
+                    mag,
+                    "magnification >= 0 (omit the key for automatic)",
+                ));
             }
         }
         if o.max_frames < 2 {
-            return Err(Error::Config(format!("output.max_frames = {}: allowed range 2 and up", o.max_frames)));
+            return Err(Error::Config(format!(
+                "output.max_frames = {}: allowed range 2 and up",
+                o.max_frames
+            )));
         }
         Ok(())
     }
@@ -584,9 +642,11 @@ fn within(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), Error> 
 /// Applies one `section.key=value` override to a TOML document. The value is read as TOML
 /// (numbers, booleans, quoted strings); a bare word that is not valid TOML is taken as a string.
 fn apply_override(doc: &mut toml::Table, assignment: &str) -> Result<(), Error> {
-    let (key, value) = assignment
-        .split_once('=')
-        .ok_or_else(|| Error::Config(format!("--set {assignment}: expected key=value, e.g. mesh.max_size=0.01")))?;
+    let (key, value) = assignment.split_once('=').ok_or_else(|| {
+        Error::Config(format!(
+            "--set {assignment}: expected key=value, e.g. mesh.max_size=0.01"
+        ))
+    })?;
     let key = key.trim();
     let value = value.trim();
     let parsed: toml::Value = match format!("v = {value}").parse::<toml::Table>() {
@@ -629,7 +689,9 @@ mod tests {
         let cfg = Config::load(None, &["mesh.max_size=0.01".into(), "material.plane=strain".into()]).unwrap();
         assert_eq!(cfg.mesh.max_size, 0.01);
         assert_eq!(cfg.material.plane, Plane::Strain);
-        let err = Config::load(None, &["mesh.max_size=-1".into()]).unwrap_err().to_string();
+        let err = Config::load(None, &["mesh.max_size=-1".into()])
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("mesh.max_size"), "{err}");
     }
 }

@@ -106,12 +106,19 @@ impl fmt::Display for Error {
             Self::Config(m) => write!(f, "configuration: {m}"),
             Self::Geometry(m) => write!(f, "geometry: {m}"),
             Self::Mesh(m) => write!(f, "mesh: {m}"),
-            Self::InvertedElement { element, quad_point, det_j } => write!(
+            Self::InvertedElement {
+                element,
+                quad_point,
+                det_j,
+            } => write!(
                 f,
                 "mesh: element {element} has a non-positive Jacobian {det_j:e} at quadrature point {quad_point}"
             ),
             Self::TimeStep { step, t, dt, source } => {
-                write!(f, "time step {step} from t = {t:.6} s failed (smallest dt tried {dt:.3e} s): {source}")
+                write!(
+                    f,
+                    "time step {step} from t = {t:.6} s failed (smallest dt tried {dt:.3e} s): {source}"
+                )
             }
             Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
             Self::Input(m) => write!(f, "input: {m}"),
@@ -133,6 +140,9 @@ impl std::error::Error for Error {
 impl Error {
     /// Wraps an I/O error with the path it concerns.
     pub fn io(path: impl Into<std::path::PathBuf>, source: std::io::Error) -> Self {
-        Self::Io { path: path.into(), source }
+        Self::Io {
+            path: path.into(),
+            source,
+        }
     }
 }

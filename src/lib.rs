@@ -29,7 +29,10 @@
 //! [`terms`] + [`constraint`] → [`newton`] over [`linsolve`] → [`newmark`] → [`simulation`] →
 //! [`post`] → [`io`].
 #![warn(missing_docs)]
+// Numerical kernels index several arrays with one loop variable; an index loop reads like the formula.
+#![allow(clippy::needless_range_loop)]
 
+pub mod commands;
 pub mod config;
 pub mod error;
 pub mod geometry;
@@ -40,3 +43,15 @@ pub mod progress;
 pub use config::Config;
 pub use error::Error;
 pub use mesh::Mesh;
+pub mod assembly;
+pub mod constraint;
+pub mod element;
+pub mod fe;
+pub mod linsolve;
+pub mod material;
+pub mod newmark;
+pub mod newton;
+pub mod post;
+pub mod quadrature;
+pub mod simulation;
+pub mod terms;

@@ -7,9 +7,9 @@ use std::collections::HashSet;
 use std::path::Path;
 use std::time::Instant;
 
-use plate::*;
 use pendulum_fem::config::Output;
 use pendulum_fem::io::{prepare_output_dir, FrameWriters};
+use plate::*;
 
 /// Frame count and distinct palette indices of a GIF.
 fn decode_gif(path: &Path) -> (usize, usize, (u16, u16)) {

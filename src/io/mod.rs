@@ -1,6 +1,7 @@
 //! Writers and readers: VTU/PVD for ParaView, Gmsh `.msh`, CSV, plots, animations, the HTML viewer.
 
 pub mod anim;
+pub mod csv;
 mod font;
 pub mod outdir;
 pub mod plot;

@@ -32,7 +32,9 @@ pub struct Cells<'a> {
 pub fn write_atomically(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<(), Error> {
     let tmp = path.with_extension(format!(
         "{}.partial",
-        path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default()
+        path.extension()
+            .map(|e| e.to_string_lossy().into_owned())
+            .unwrap_or_default()
     ));
     let result = (|| {
         let file = std::fs::File::create(&tmp)?;
@@ -60,9 +62,18 @@ pub fn write_vtu(
 }
 
 /// Writes the mesh as quadratic triangles with nodal fields.
-pub fn write_mesh_vtu(path: &Path, mesh: &Mesh, point_data: &[Field<'_>], cell_data: &[Field<'_>]) -> Result<(), Error> {
+pub fn write_mesh_vtu(
+    path: &Path,
+    mesh: &Mesh,
+    point_data: &[Field<'_>],
+    cell_data: &[Field<'_>],
+) -> Result<(), Error> {
     let connectivity: Vec<usize> = mesh.triangles.iter().flatten().copied().collect();
-    let cells = Cells { connectivity: &connectivity, nodes_per_cell: 6, vtk_type: VTK_QUADRATIC_TRIANGLE };
+    let cells = Cells {
+        connectivity: &connectivity,
+        nodes_per_cell: 6,
+        vtk_type: VTK_QUADRATIC_TRIANGLE,
+    };
     write_vtu(path, &mesh.nodes, cells, point_data, cell_data)
 }
 
@@ -75,9 +86,17 @@ fn write_vtu_to(
 ) -> std::io::Result<()> {
     let n_cells = cells.connectivity.len() / cells.nodes_per_cell.max(1);
     writeln!(w, r#"<?xml version="1.0"?>"#)?;
-    writeln!(w, r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">"#)?;
+    writeln!(
+        w,
+        r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">"#
+    )?;
     writeln!(w, "<UnstructuredGrid>")?;
-    writeln!(w, r#"<Piece NumberOfPoints="{}" NumberOfCells="{}">"#, points.len(), n_cells)?;
+    writeln!(
+        w,
+        r#"<Piece NumberOfPoints="{}" NumberOfCells="{}">"#,
+        points.len(),
+        n_cells
+    )?;
     writeln!(w, "<Points>")?;
     writeln!(w, r#"<DataArray type="Float64" NumberOfComponents="3" format="ascii">"#)?;
     for p in points {
@@ -129,14 +148,22 @@ fn write_field(w: &mut dyn Write, f: &Field<'_>) -> std::io::Result<()> {
         }
         FieldData::Vector(v) => {
             // 3 components so ParaView can "Warp By Vector" directly.
-            writeln!(w, r#"<DataArray type="Float64" Name="{}" NumberOfComponents="3" format="ascii">"#, f.name)?;
+            writeln!(
+                w,
+                r#"<DataArray type="Float64" Name="{}" NumberOfComponents="3" format="ascii">"#,
+                f.name
+            )?;
             for x in v {
                 writeln!(w, "{:e} {:e} 0", x[0], x[1])?;
             }
         }
         FieldData::Tensor(v) => {
             // Full 3×3 (row-major), the layout ParaView shows as a tensor; zz = xz = yz = 0.
-            writeln!(w, r#"<DataArray type="Float64" Name="{}" NumberOfComponents="9" format="ascii">"#, f.name)?;
+            writeln!(
+                w,
+                r#"<DataArray type="Float64" Name="{}" NumberOfComponents="9" format="ascii">"#,
+                f.name
+            )?;
             for s in v {
                 writeln!(w, "{:e} {:e} 0 {:e} {:e} 0 0 0 0", s[0], s[2], s[2], s[1])?;
             }

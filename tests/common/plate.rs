@@ -1,5 +1,5 @@
 //! Fixtures for the output tests (used as `#[path = "common/plate.rs"] mod plate;`): a hand-built
-//! hanging from the origin, synthetic frames (a rigid swing θ(t) = 0.35 cos(6.6 t) plus a small
+//! six-node-triangle mesh of a rectangular plate hanging from the origin, synthetic frames (a rigid swing θ(t) = 0.35 cos(6.6 t) plus a small
 //! elastic field) and a synthetic `results.csv`.
 #![allow(dead_code)]
 

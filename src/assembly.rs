@@ -1,0 +1,129 @@
+//! The global sparsity pattern, built once per run, and the element-to-matrix scatter maps.
+//!
+//! The stiffness-like matrices of this problem are symmetric; only the upper triangle (`row ≤ col`)
+//! is stored, column-compressed (CSC), which is what the Cholesky factorisation reads
+//! ([`crate::linsolve`]). The pattern is the union of the element couplings (every degree of freedom
+//! of an element with every other) and of any extra entries a term asks for
+//! ([`crate::terms::Term::hessian_entries`]). Every term always writes the same entries (zero when
+//! inactive), so the pattern and the symbolic factorisation never change during a run.
+//!
+//! Element matrices are scattered through precomputed positions: for element `e` and local
+//! degrees of freedom `i, j` (`0..12`, node-major, x before y), `scatter[e·144 + 12 i + j]` is the
+//! index in [`Pattern::values`]-sized arrays, or [`SKIP`] for the lower-triangle half.
+
+use crate::Mesh;
+
+/// Marks a local pair that belongs to the lower triangle (added through its mirror).
+pub const SKIP: u32 = u32::MAX;
+
+/// Upper-triangular CSC sparsity pattern of the `2·nodes` degrees of freedom.
+#[derive(Clone, Debug)]
+pub struct Pattern {
+    /// Matrix dimension.
+    pub n: usize,
+    /// Column pointers (`n + 1`).
+    pub col_ptr: Vec<usize>,
+    /// Row indices, sorted within each column.
+    pub row_idx: Vec<usize>,
+    /// Per element, 144 positions (see the module doc).
+    pub scatter: Vec<u32>,
+}
+
+/// Global degrees of freedom of an element, node-major: `[2a₀, 2a₀+1, 2a₁, …]`.
+pub fn element_dofs(nodes: &[usize; 6]) -> [usize; 12] {
+    let mut d = [0; 12];
+    for (a, &n) in nodes.iter().enumerate() {
+        d[2 * a] = 2 * n;
+        d[2 * a + 1] = 2 * n + 1;
+    }
+    d
+}
+
+impl Pattern {
+    /// Builds the pattern of `mesh` plus `extra` `(row, col)` entries (either order).
+    pub fn new(mesh: &Mesh, extra: &[(usize, usize)]) -> Self {
+        let n = 2 * mesh.num_nodes();
+        let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for tri in &mesh.triangles {
+            let d = element_dofs(tri);
+            for &r in &d {
+                for &c in &d {
+                    if r <= c {
+                        cols[c].push(r);
+                    }
+                }
+            }
+        }
+        for &(r, c) in extra {
+            let (r, c) = if r <= c { (r, c) } else { (c, r) };
+            cols[c].push(r);
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for col in &mut cols {
+            col.sort_unstable();
+            col.dedup();
+            row_idx.extend_from_slice(col);
+            col_ptr.push(row_idx.len());
+        }
+        let mut p = Self {
+            n,
+            col_ptr,
+            row_idx,
+            scatter: Vec::with_capacity(mesh.triangles.len() * 144),
+        };
+        for tri in &mesh.triangles {
+            let d = element_dofs(tri);
+            for &r in &d {
+                for &c in &d {
+                    let pos = if r <= c {
+                        p.position(r, c).expect("element entry in pattern") as u32
+                    } else {
+                        SKIP
+                    };
+                    p.scatter.push(pos);
+                }
+            }
+        }
+        p
+    }
+
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Index of entry `(r, c)` (either order) in the value array, if it is in the pattern.
+    pub fn position(&self, r: usize, c: usize) -> Option<usize> {
+        let (r, c) = if r <= c { (r, c) } else { (c, r) };
+        let rows = &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]];
+        rows.binary_search(&r).ok().map(|k| self.col_ptr[c] + k)
+    }
+
+    /// Adds a 12×12 element matrix (row-major, symmetric) of element `e` into `values`.
+    #[inline]
+    pub fn scatter_element(&self, e: usize, ke: &[f64; 144], values: &mut [f64]) {
+        let map = &self.scatter[e * 144..(e + 1) * 144];
+        for (k, &pos) in map.iter().enumerate() {
+            if pos != SKIP {
+                values[pos as usize] += ke[k];
+            }
+        }
+    }
+
+    /// `y = A x` for the symmetric matrix whose upper triangle is `values`.
+    pub fn sym_matvec(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|v| *v = 0.0);
+        for c in 0..self.n {
+            for k in self.col_ptr[c]..self.col_ptr[c + 1] {
+                let r = self.row_idx[k];
+                let v = values[k];
+                y[r] += v * x[c];
+                if r != c {
+                    y[c] += v * x[r];
+                }
+            }
+        }
+    }
+}

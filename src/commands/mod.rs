@@ -1,0 +1,4 @@
+//! The subcommands of the `pendulum-fem` binary, as library functions (the binary only parses
+//! arguments and prints errors).
+
+pub mod run;

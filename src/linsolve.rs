@@ -1,0 +1,118 @@
+//! Sparse direct solution of the Newton systems.
+//!
+//! Each Newton iteration solves the saddle-point system of the constrained step
+//!
+//! ```text
+//! [ K  Cᵀ ] [ Δu ]   [ −g ]
+//! [ C  0  ] [ λ  ] = [  0 ]
+//! ```
+//!
+//! with `K` the symmetric positive definite dynamic stiffness (`M/(βΔt²)` plus the tangent of the
+//! terms) and `C` the two hinge rows. We factorise `K = LLᵀ` (faer's sparse Cholesky) and eliminate
+//! the two multipliers through the 2×2 Schur complement `S = C K⁻¹ Cᵀ`:
+//! `y = −K⁻¹g`, `Z = K⁻¹Cᵀ`, `λ = S⁻¹ C y`, `Δu = y − Z λ`. This keeps the factorised matrix
+//! positive definite (an LDLᵀ of the saddle-point matrix needs the multipliers ordered last, or a
+//! zero pivot appears), and it is exact.
+//!
+//! The fill-reducing ordering (AMD) and the symbolic factorisation are computed once per run from
+//! the fixed pattern ([`crate::assembly::Pattern`]); every Newton iteration only refactorises
+//! numerically into preallocated storage.
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
+
+use crate::assembly::Pattern;
+use crate::Error;
+
+/// A Cholesky factorisation with a fixed symbolic structure.
+pub struct Cholesky {
+    symbolic: SymbolicCholesky<usize>,
+    l_values: Vec<f64>,
+    mem: MemBuffer,
+    par: Par,
+    factored: bool,
+}
+
+/// The matrix was not numerically positive definite.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NotPositiveDefinite;
+
+/// Right-hand sides solved together at most.
+const MAX_RHS: usize = 3;
+
+impl Cholesky {
+    /// Symbolic analysis (ordering, elimination tree, supernodes) of `pattern`.
+    pub fn new(pattern: &Pattern) -> Result<Self, Error> {
+        let sym = symbolic_ref(pattern);
+        let symbolic = factorize_symbolic_cholesky(
+            sym,
+            Side::Upper,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| Error::LinearSolver(format!("symbolic Cholesky analysis failed: {e:?}")))?;
+        // Two threads pay off only for large supernodal factorisations.
+        let par = if pattern.n > 40_000 { Par::rayon(0) } else { Par::Seq };
+        let req = StackReq::any_of(&[
+            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+            symbolic.solve_in_place_scratch::<f64>(MAX_RHS, par),
+        ]);
+        let mem =
+            MemBuffer::try_new(req).map_err(|_| Error::LinearSolver("out of memory for the factorisation".into()))?;
+        let l_values = vec![0.0; symbolic.len_val()];
+        Ok(Self {
+            symbolic,
+            l_values,
+            mem,
+            par,
+            factored: false,
+        })
+    }
+
+    /// Number of stored entries of the factor `L`.
+    pub fn factor_nnz(&self) -> usize {
+        self.l_values.len()
+    }
+
+    /// Numeric factorisation of the matrix with upper-triangle `values` in `pattern`.
+    pub fn factor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), NotPositiveDefinite> {
+        let a = SparseColMatRef::new(symbolic_ref(pattern), values);
+        self.factored = false;
+        let stack = MemStack::new(&mut self.mem);
+        self.symbolic
+            .factorize_numeric_llt(
+                &mut self.l_values,
+                a,
+                Side::Upper,
+                Default::default(),
+                self.par,
+                stack,
+                Default::default(),
+            )
+            .map_err(|_| NotPositiveDefinite)?;
+        self.factored = true;
+        Ok(())
+    }
+
+    /// Solves `K X = B` in place for up to three right-hand sides stored column after column in `b`.
+    ///
+    /// # Panics
+    /// If no factorisation succeeded before, or `b` is not a multiple of the dimension.
+    pub fn solve_in_place(&mut self, b: &mut [f64]) {
+        assert!(self.factored, "solve before a successful factorisation");
+        let n = self.symbolic.nrows();
+        let k = b.len() / n;
+        assert!(k * n == b.len() && k <= MAX_RHS);
+        let rhs = MatMut::from_column_major_slice_mut(b, n, k);
+        let llt = LltRef::new(&self.symbolic, &self.l_values);
+        llt.solve_in_place_with_conj(Conj::No, rhs, self.par, MemStack::new(&mut self.mem));
+    }
+}
+
+fn symbolic_ref(p: &Pattern) -> SymbolicSparseColMatRef<'_, usize> {
+    SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx)
+}

@@ -1,0 +1,236 @@
+//! Results derived from a state: the rigid-body proxy angle and its rates, energies, stresses.
+//!
+//! **Proxy angle** (the tutorial's `rigid_body_proxy`): with `r = X` the reference position
+//! relative to the pivot,
+//!
+//! ```text
+//! s = ∫ (r_x u_y − r_y u_x) dA / ∫ r·r dA,   c = ∫ r·(r + u) dA / ∫ r·r dA,   θ = atan2(s, c),
+//! ```
+//!
+//! the best-fit rotation of the displaced body about the pivot. Both integrals are linear in `u`
+//! and are precomputed as vectors (degree-6 rule, exact on curved P2 elements). `θ` is unwrapped
+//! so that it stays continuous past ±180° ([`Unwrap`]).
+//!
+//! **Rates**: the same best-fit projection applied to the velocity and acceleration fields about the
+//! current position `x = X + u`: `ω = ∫ x × v dA / ∫ x·x dA`, `α = ∫ x × a dA / ∫ x·x dA`; exact for a
+//! rigid motion (`v = ω e_z × x`, `a = α e_z × x − ω² x`). The integrals use the consistent mass
+//! matrix (exact for fields in the P2 space; uniform density cancels).
+//!
+//! **Stress**: Cauchy `σ = J⁻¹ P Fᵀ`, von Mises as in [`crate::material::von_mises`], evaluated at
+//! the six nodes of every element. Nodal fields average the element values; the reported maximum
+//! is the largest element-node value (not averaged).
+
+use crate::assembly::Pattern;
+use crate::element::Tri6;
+use crate::fe::{for_each_point, FeCache};
+use crate::material::{von_mises, Material};
+use crate::quadrature::TriangleRule;
+use crate::terms::elastic::deformation_gradient;
+use crate::terms::inertia::MassMatrix;
+use crate::{Error, Mesh};
+
+/// The linear functionals of the proxy angle.
+#[derive(Clone, Debug)]
+pub struct RigidProjection {
+    /// `∂/∂u ∫ (r_x u_y − r_y u_x) dA`.
+    pub sin_weights: Vec<f64>,
+    /// `∂/∂u ∫ r·u dA`.
+    pub cos_weights: Vec<f64>,
+    /// `∫ r·r dA` \[m⁴\].
+    pub polar: f64,
+    /// `∫ dA` \[m²\].
+    pub area: f64,
+    /// `∫ r dA` \[m³\].
+    pub first_moment: [f64; 2],
+}
+
+impl RigidProjection {
+    /// Precomputes the functionals on `mesh` (pivot at the origin).
+    pub fn new(mesh: &Mesh) -> Self {
+        let ndof = 2 * mesh.num_nodes();
+        let mut sin_weights = vec![0.0; ndof];
+        let mut cos_weights = vec![0.0; ndof];
+        let (mut polar, mut area, mut first_moment) = (0.0, 0.0, [0.0; 2]);
+        for_each_point(mesh, &TriangleRule::degree6(), |e, n, x, w| {
+            polar += (x[0] * x[0] + x[1] * x[1]) * w;
+            area += w;
+            first_moment[0] += x[0] * w;
+            first_moment[1] += x[1] * w;
+            for (a, &node) in mesh.triangles[e].iter().enumerate() {
+                sin_weights[2 * node] -= x[1] * n[a] * w;
+                sin_weights[2 * node + 1] += x[0] * n[a] * w;
+                cos_weights[2 * node] += x[0] * n[a] * w;
+                cos_weights[2 * node + 1] += x[1] * n[a] * w;
+            }
+        });
+        Self {
+            sin_weights,
+            cos_weights,
+            polar,
+            area,
+            first_moment,
+        }
+    }
+
+    /// The proxy angle in `(−π, π]` \[rad\].
+    pub fn angle(&self, u: &[f64]) -> f64 {
+        let s: f64 = self.sin_weights.iter().zip(u).map(|(w, x)| w * x).sum();
+        let c: f64 = self.cos_weights.iter().zip(u).map(|(w, x)| w * x).sum();
+        s.atan2(self.polar + c)
+    }
+}
+
+/// Keeps an angle continuous across the ±π branch cut of `atan2`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Unwrap {
+    last: Option<f64>,
+}
+
+impl Unwrap {
+    /// Starts from a known continuous value.
+    pub fn starting_at(theta: f64) -> Self {
+        Self { last: Some(theta) }
+    }
+
+    /// The continuous angle closest to the previous one that equals `wrapped` modulo 2π.
+    pub fn next(&mut self, wrapped: f64) -> f64 {
+        let tau = std::f64::consts::TAU;
+        let value = match self.last {
+            None => wrapped,
+            Some(prev) => wrapped + tau * ((prev - wrapped) / tau).round(),
+        };
+        self.last = Some(value);
+        value
+    }
+}
+
+/// `(∫ x × w dA, ∫ x·x dA)` up to the common factor ρ t, for interleaved nodal positions `x` and a
+/// field `w`, through the mass matrix.
+pub fn moment_of(pattern: &Pattern, mass: &MassMatrix, x: &[f64], w: &[f64], scratch: &mut Vec<f64>) -> f64 {
+    scratch.resize(x.len(), 0.0);
+    pattern.sym_matvec(&mass.values, w, scratch);
+    (0..x.len() / 2)
+        .map(|a| x[2 * a] * scratch[2 * a + 1] - x[2 * a + 1] * scratch[2 * a])
+        .sum()
+}
+
+/// Nodal stresses of a state.
+#[derive(Clone, Debug, Default)]
+pub struct NodalStress {
+    /// Averaged Cauchy stress `[σxx, σyy, σxy]` per node \[Pa\].
+    pub cauchy: Vec<[f64; 3]>,
+    /// Averaged von Mises stress per node \[Pa\].
+    pub von_mises: Vec<f64>,
+    /// Largest element-node von Mises stress \[Pa\].
+    pub max_von_mises: f64,
+}
+
+/// Evaluates stresses at element nodes.
+#[derive(Clone, Debug)]
+pub struct StressRecovery {
+    nodal: FeCache,
+    triangles: Vec<[usize; 6]>,
+    counts: Vec<f64>,
+}
+
+impl StressRecovery {
+    /// Precomputes basis gradients at the six nodes of every element.
+    pub fn new(mesh: &Mesh) -> Result<Self, Error> {
+        let rule = TriangleRule {
+            points: Tri6::NODES.to_vec(),
+            weights: vec![0.0; 6],
+            degree: 0,
+        };
+        let nodal = FeCache::new(mesh, &rule, 1.0)?;
+        let mut counts = vec![0.0; mesh.num_nodes()];
+        for tri in &mesh.triangles {
+            for &n in tri {
+                counts[n] += 1.0;
+            }
+        }
+        Ok(Self {
+            nodal,
+            triangles: mesh.triangles.clone(),
+            counts,
+        })
+    }
+
+    /// Largest element-node von Mises stress only (cheap, every step).
+    pub fn max_von_mises(&self, material: &Material, u: &[f64]) -> f64 {
+        let mut max = 0.0f64;
+        for (e, tri) in self.triangles.iter().enumerate() {
+            for a in 0..6 {
+                let f = deformation_gradient(tri, &self.nodal.grads[e * 6 + a], u);
+                let (s, szz) = material.cauchy_stress(&f);
+                max = max.max(von_mises(s, szz));
+            }
+        }
+        max
+    }
+
+    /// Averaged nodal fields and the maximum.
+    pub fn nodal(&self, material: &Material, u: &[f64]) -> NodalStress {
+        let nn = self.counts.len();
+        let mut out = NodalStress {
+            cauchy: vec![[0.0; 3]; nn],
+            von_mises: vec![0.0; nn],
+            max_von_mises: 0.0,
+        };
+        for (e, tri) in self.triangles.iter().enumerate() {
+            for (a, &node) in tri.iter().enumerate() {
+                let f = deformation_gradient(tri, &self.nodal.grads[e * 6 + a], u);
+                let (s, szz) = material.cauchy_stress(&f);
+                let vm = von_mises(s, szz);
+                out.max_von_mises = out.max_von_mises.max(vm);
+                for i in 0..3 {
+                    out.cauchy[node][i] += s[i];
+                }
+                out.von_mises[node] += vm;
+            }
+        }
+        for (n, c) in self.counts.iter().enumerate() {
+            for i in 0..3 {
+                out.cauchy[n][i] /= c;
+            }
+            out.von_mises[n] /= c;
+        }
+        out
+    }
+}
+
+/// Period estimate from the zero crossings of `θ(t)` (linear interpolation between samples):
+/// `T = 2 (t_last − t_first) / (crossings − 1)`. Streaming: feed samples in time order.
+#[derive(Clone, Debug, Default)]
+pub struct PeriodEstimator {
+    last: Option<(f64, f64)>,
+    first_crossing: Option<f64>,
+    last_crossing: Option<f64>,
+    crossings: usize,
+}
+
+impl PeriodEstimator {
+    /// Adds the sample `(t, θ)`.
+    pub fn push(&mut self, t: f64, theta: f64) {
+        if let Some((t0, th0)) = self.last {
+            if (th0 < 0.0 && theta >= 0.0) || (th0 > 0.0 && theta <= 0.0) {
+                let tc = if theta == th0 {
+                    t
+                } else {
+                    t0 + (t - t0) * th0 / (th0 - theta)
+                };
+                self.first_crossing.get_or_insert(tc);
+                self.last_crossing = Some(tc);
+                self.crossings += 1;
+            }
+        }
+        self.last = Some((t, theta));
+    }
+
+    /// The period \[s\], once at least two crossings were seen.
+    pub fn period(&self) -> Option<f64> {
+        match (self.first_crossing, self.last_crossing) {
+            (Some(a), Some(b)) if self.crossings >= 2 => Some(2.0 * (b - a) / (self.crossings - 1) as f64),
+            _ => None,
+        }
+    }
+}

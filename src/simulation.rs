@@ -1,0 +1,464 @@
+//! Orchestration: builds the model from a configuration and a mesh, sets the initial state, and
+//! advances it step by step with cut-backs.
+//!
+//! **Initial state** (pivot at the origin, `R = R(θ₀)`): `u₀ = (R − I) X`, `v₀ = ω₀ e_z × x`,
+//! `x = R X`. The initial acceleration is either zero (the tutorial's start) or the rigid-body value
+//! `a₀ = α₀ e_z × x − ω₀² x`, with `α₀ = (τ_g + M(0)) / I_pivot` from the torque balance about the
+//! pivot: `τ_g = −ρ t g ∫ x_x dA` is the moment of gravity and `I_pivot = ρ t ∫ |X|² dA`.
+//!
+//! **Steps**: each user step `tₙ → tₙ + Δt` minimises the Newmark incremental potential
+//! ([`crate::newmark`]) with Newton ([`crate::newton`]). If Newton fails, the step is split into two
+//! halves, recursively, up to `solver.max_cutbacks` times; then the run stops with an error naming
+//! the step, the time and the last residual ([`Error::TimeStep`]).
+
+use crate::assembly::Pattern;
+use crate::config::{Config, InitialAcceleration};
+use crate::constraint::Hinge;
+use crate::error::NewtonError;
+use crate::fe::FeCache;
+use crate::io::Frame;
+use crate::material::Material;
+use crate::newmark::{Newmark, State};
+use crate::newton::{NewtonSettings, Solver, Timings};
+use crate::post::{moment_of, NodalStress, RigidProjection, StressRecovery, Unwrap};
+use crate::quadrature::TriangleRule;
+use crate::terms::inertia::MassMatrix;
+use crate::terms::{Elastic, Gravity, Inertia, Term};
+use crate::{Error, Mesh};
+
+/// Relative equilibrium tolerance of a converged step: `‖∇Φ + Cᵀλ‖∞ ≤ 10⁻⁴ × load scale`, where the
+/// load scale is the largest nodal gravity or inertia force. Together with the energy-norm criterion
+/// (`solver.tolerance`) it guards against a small update that hides an unbalanced state.
+pub const RESIDUAL_TOLERANCE: f64 = 1e-4;
+
+/// The name of the hinge boundary.
+pub const HINGE_BOUNDARY: &str = "rotation";
+
+/// Everything that does not change during a run.
+pub struct Model {
+    /// The configuration.
+    pub config: Config,
+    /// The mesh.
+    pub mesh: Mesh,
+    /// The constitutive law.
+    pub material: Material,
+    /// Fixed sparsity pattern.
+    pub pattern: Pattern,
+    /// Strain energy term.
+    pub elastic: Elastic,
+    /// Gravity term.
+    pub gravity: Gravity,
+    /// Further terms (torque, contact), added by later stages.
+    pub extra_terms: Vec<Box<dyn Term>>,
+    /// Consistent mass matrix.
+    pub mass: MassMatrix,
+    /// The hinge.
+    pub hinge: Hinge,
+    /// Proxy-angle functionals and rigid-body moments of area.
+    pub projection: RigidProjection,
+    /// Stress evaluation at nodes.
+    pub stress: StressRecovery,
+    /// Time integrator.
+    pub newmark: Newmark,
+}
+
+impl Model {
+    /// Builds every operator of the run (pattern, mass, terms, symbolic data).
+    pub fn new(config: &Config, mesh: Mesh) -> Result<Self, Error> {
+        config.validate()?;
+        let t = config.geometry.thickness;
+        let rho = config.material.density;
+        let material = Material::from_config(&config.material);
+        let cache = FeCache::new(&mesh, &TriangleRule::degree4(), t)?;
+        let elastic = Elastic::new(material, &mesh, cache);
+        let gravity = Gravity::new(&mesh, rho, t, config.gravity.g);
+        let hinge = Hinge::new(&mesh, HINGE_BOUNDARY)?;
+        let pattern = Pattern::new(&mesh, &[]);
+        let mass = MassMatrix::new(&mesh, &pattern, rho, t);
+        let projection = RigidProjection::new(&mesh);
+        let stress = StressRecovery::new(&mesh)?;
+        Ok(Self {
+            config: config.clone(),
+            mesh,
+            material,
+            pattern,
+            elastic,
+            gravity,
+            extra_terms: Vec::new(),
+            mass,
+            hinge,
+            projection,
+            stress,
+            newmark: Newmark::AVERAGE_ACCELERATION,
+        })
+    }
+
+    /// Adds a term and extends the sparsity pattern by the entries it writes.
+    pub fn add_term(&mut self, term: Box<dyn Term>) {
+        let entries = term.hessian_entries();
+        if !entries.is_empty() {
+            let mut all = entries;
+            for t in &self.extra_terms {
+                all.extend(t.hessian_entries());
+            }
+            self.pattern = Pattern::new(&self.mesh, &all);
+            self.mass = MassMatrix::new(
+                &self.mesh,
+                &self.pattern,
+                self.config.material.density,
+                self.config.geometry.thickness,
+            );
+        }
+        self.extra_terms.push(term);
+    }
+
+    /// Mass of the body \[kg\].
+    pub fn mass_kg(&self) -> f64 {
+        self.config.material.density * self.config.geometry.thickness * self.projection.area
+    }
+
+    /// Moment of inertia about the pivot \[kg m²\].
+    pub fn inertia_pivot(&self) -> f64 {
+        self.config.material.density * self.config.geometry.thickness * self.projection.polar
+    }
+
+    /// The external torque about the pivot at time `t` \[N m\] from the extra terms (0 without).
+    pub fn applied_torque(&self, _t: f64) -> f64 {
+        0.0
+    }
+
+    /// The initial state described by the configuration.
+    pub fn initial_state(&self) -> State {
+        let init = &self.config.initial;
+        let theta = init.angle_deg.to_radians();
+        let (s, c) = theta.sin_cos();
+        let w = init.angular_velocity;
+        let nn = self.mesh.num_nodes();
+        let (mut u, mut v, mut a) = (vec![0.0; 2 * nn], vec![0.0; 2 * nn], vec![0.0; 2 * nn]);
+        let rho_t = self.config.material.density * self.config.geometry.thickness;
+        // moment of gravity about the pivot in the rotated position: −ρ t g ∫ x_x dA, x = R X
+        let sx = c * self.projection.first_moment[0] - s * self.projection.first_moment[1];
+        let tau_g = -rho_t * self.config.gravity.g * sx;
+        let alpha = match init.acceleration {
+            InitialAcceleration::Rigid => (tau_g + self.applied_torque(0.0)) / self.inertia_pivot(),
+            InitialAcceleration::Zero => 0.0,
+        };
+        let rigid_acc = init.acceleration == InitialAcceleration::Rigid;
+        for (n, p) in self.mesh.nodes.iter().enumerate() {
+            let x = [c * p[0] - s * p[1], s * p[0] + c * p[1]];
+            u[2 * n] = x[0] - p[0];
+            u[2 * n + 1] = x[1] - p[1];
+            v[2 * n] = -w * x[1];
+            v[2 * n + 1] = w * x[0];
+            if rigid_acc {
+                a[2 * n] = -alpha * x[1] - w * w * x[0];
+                a[2 * n + 1] = alpha * x[0] - w * w * x[1];
+            }
+        }
+        State { t: 0.0, u, v, a }
+    }
+
+    /// Current nodal positions `x = X + u`, interleaved.
+    pub fn positions(&self, u: &[f64]) -> Vec<f64> {
+        self.mesh
+            .nodes
+            .iter()
+            .enumerate()
+            .flat_map(|(n, p)| [p[0] + u[2 * n], p[1] + u[2 * n + 1]])
+            .collect()
+    }
+}
+
+/// One row of `results.csv`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StepRecord {
+    /// Step number (0: the initial state).
+    pub step: usize,
+    /// Time \[s\].
+    pub time: f64,
+    /// Proxy angle, unwrapped \[rad\].
+    pub theta: f64,
+    /// Best-fit angular velocity \[rad/s\].
+    pub omega: f64,
+    /// Best-fit angular acceleration \[rad/s²\].
+    pub alpha: f64,
+    /// Kinetic energy \[J\].
+    pub kinetic: f64,
+    /// Strain energy \[J\].
+    pub strain: f64,
+    /// Gravitational energy relative to the pivot height \[J\].
+    pub gravity: f64,
+    /// Sum of the three \[J\].
+    pub total: f64,
+    /// Force of the hinge on the body \[N\].
+    pub hinge_force: [f64; 2],
+    /// Largest von Mises stress \[Pa\].
+    pub von_mises_max: f64,
+    /// Newton iterations of the step (0 for the initial state).
+    pub newton_iterations: usize,
+}
+
+impl StepRecord {
+    /// CSV header, in this order.
+    pub const HEADER: &'static str = "time_s,theta_rad,omega_rad_s,alpha_rad_s2,kinetic_J,strain_J,gravity_J,total_J,\
+hinge_fx_N,hinge_fy_N,von_mises_max_Pa,newton_iterations";
+}
+
+/// Nodal fields of the current state, owned, for the frame writers.
+#[derive(Clone, Debug, Default)]
+pub struct FrameData {
+    /// Step number.
+    pub step: usize,
+    /// Time \[s\].
+    pub time: f64,
+    /// Proxy angle \[rad\].
+    pub theta: f64,
+    /// Displacement per node.
+    pub displacement: Vec<[f64; 2]>,
+    /// Velocity per node.
+    pub velocity: Vec<[f64; 2]>,
+    /// Acceleration per node.
+    pub acceleration: Vec<[f64; 2]>,
+    /// Nodal stresses.
+    pub stress: NodalStress,
+}
+
+impl FrameData {
+    /// Borrowed view for the writers.
+    pub fn as_frame(&self) -> Frame<'_> {
+        Frame {
+            step: self.step,
+            time: self.time,
+            theta: self.theta,
+            displacement: &self.displacement,
+            velocity: &self.velocity,
+            acceleration: &self.acceleration,
+            von_mises: &self.stress.von_mises,
+            cauchy: &self.stress.cauchy,
+        }
+    }
+}
+
+fn pairs(v: &[f64]) -> Vec<[f64; 2]> {
+    v.chunks_exact(2).map(|c| [c[0], c[1]]).collect()
+}
+
+/// A running simulation.
+pub struct Simulation {
+    /// The model.
+    pub model: Model,
+    /// Newton workspace (factorisation, buffers).
+    pub solver: Solver,
+    /// Current state.
+    pub state: State,
+    /// Current hinge multipliers \[N\].
+    pub lambda: [f64; 2],
+    /// Steps done.
+    pub step: usize,
+    /// Newton iterations so far.
+    pub total_iterations: usize,
+    /// Cut-backs so far.
+    pub cutbacks: usize,
+    unwrap: Unwrap,
+    scratch: Vec<f64>,
+}
+
+impl Simulation {
+    /// Sets up the run: operators, symbolic factorisation, initial state.
+    pub fn new(model: Model) -> Result<Self, Error> {
+        let solver = Solver::new(&model.pattern, &model.hinge)?;
+        let state = model.initial_state();
+        let theta0 = model.projection.angle(&state.u);
+        let mut sim = Self {
+            solver,
+            state,
+            lambda: [0.0; 2],
+            step: 0,
+            total_iterations: 0,
+            cutbacks: 0,
+            unwrap: Unwrap::starting_at(model.config.initial.angle_deg.to_radians()),
+            scratch: Vec::new(),
+            model,
+        };
+        // The multipliers of the initial state from the balance of linear momentum:
+        // −λ = ∫ ρ t a dA − F_gravity  (the force the hinge must exert on the body).
+        let mut ma = vec![0.0; sim.state.a.len()];
+        sim.model
+            .pattern
+            .sym_matvec(&sim.model.mass.values, &sim.state.a, &mut ma);
+        let fx: f64 = ma.iter().step_by(2).sum();
+        let fy: f64 = ma.iter().skip(1).step_by(2).sum::<f64>() + sim.model.gravity.load_gradient.iter().sum::<f64>();
+        sim.lambda = [-fx, -fy];
+        let _ = sim.unwrap.next(theta0);
+        sim.unwrap = Unwrap::starting_at(theta0);
+        Ok(sim)
+    }
+
+    /// Builds model and simulation from a configuration and a mesh.
+    pub fn from_config(config: &Config, mesh: Mesh) -> Result<Self, Error> {
+        Self::new(Model::new(config, mesh)?)
+    }
+
+    /// Accumulated solver timings.
+    pub fn timings(&self) -> Timings {
+        self.solver.timings
+    }
+
+    /// Post-processes the current state into a CSV record.
+    pub fn record(&mut self, newton_iterations: usize) -> StepRecord {
+        let m = &self.model;
+        let s = &self.state;
+        let theta = self.unwrap.next(m.projection.angle(&s.u));
+        let x = m.positions(&s.u);
+        let mut mx = vec![0.0; x.len()];
+        m.pattern.sym_matvec(&m.mass.values, &x, &mut mx);
+        let polar: f64 = x.iter().zip(&mx).map(|(a, b)| a * b).sum();
+        let omega = moment_of(&m.pattern, &m.mass, &x, &s.v, &mut self.scratch) / polar;
+        let alpha = moment_of(&m.pattern, &m.mass, &x, &s.a, &mut self.scratch) / polar;
+        let mut mv = vec![0.0; x.len()];
+        m.pattern.sym_matvec(&m.mass.values, &s.v, &mut mv);
+        let kinetic = 0.5 * s.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
+        let strain = m.elastic.energy(&s.u, s.t);
+        let gravity = m.gravity.energy(&s.u, s.t);
+        StepRecord {
+            step: self.step,
+            time: s.t,
+            theta,
+            omega,
+            alpha,
+            kinetic,
+            strain,
+            gravity,
+            total: kinetic + strain + gravity,
+            hinge_force: Hinge::reaction(self.lambda),
+            von_mises_max: m.stress.max_von_mises(&m.material, &s.u),
+            newton_iterations,
+        }
+    }
+
+    /// Nodal fields of the current state.
+    pub fn frame_data(&self, theta: f64) -> FrameData {
+        FrameData {
+            step: self.step,
+            time: self.state.t,
+            theta,
+            displacement: pairs(&self.state.u),
+            velocity: pairs(&self.state.v),
+            acceleration: pairs(&self.state.a),
+            stress: self.model.stress.nodal(&self.model.material, &self.state.u),
+        }
+    }
+
+    /// The largest nodal applied force: gravity and the inertia force `M a` of the current state \[N\].
+    fn load_scale(&mut self) -> f64 {
+        let m = &self.model;
+        self.scratch.resize(self.state.a.len(), 0.0);
+        m.pattern.sym_matvec(&m.mass.values, &self.state.a, &mut self.scratch);
+        let inertia = self.scratch.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let gravity = m.gravity.load_gradient.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        (inertia + gravity).max(1e-12)
+    }
+
+    /// Best-fit angular velocity and acceleration of the current state \[rad/s, rad/s²\].
+    pub fn angular_rates(&mut self) -> (f64, f64) {
+        let m = &self.model;
+        let x = m.positions(&self.state.u);
+        let mut mx = vec![0.0; x.len()];
+        m.pattern.sym_matvec(&m.mass.values, &x, &mut mx);
+        let polar: f64 = x.iter().zip(&mx).map(|(a, b)| a * b).sum();
+        let omega = moment_of(&m.pattern, &m.mass, &x, &self.state.v, &mut self.scratch) / polar;
+        let alpha = moment_of(&m.pattern, &m.mass, &x, &self.state.a, &mut self.scratch) / polar;
+        (omega, alpha)
+    }
+
+    /// Starting guess of a step: the current configuration rotated rigidly about the pivot by
+    /// `Δφ = ω Δt + ½ α Δt²` (best-fit rates). Extrapolating displacements linearly instead,
+    /// `u + Δt v + ½Δt² a`, stretches a rotating body isotropically by `~ω α Δt³`: for steel a spurious
+    /// stress of megapascals whose geometric stiffness can make the tangent indefinite. The rotation
+    /// about the pivot keeps the hinge's mean displacement zero (the hinge edge is centred on it).
+    fn rotational_guess(&mut self, dt: f64) -> Vec<f64> {
+        let (omega, alpha) = self.angular_rates();
+        let phi = omega * dt + 0.5 * alpha * dt * dt;
+        let (s, c) = phi.sin_cos();
+        let u = &self.state.u;
+        let mut guess = vec![0.0; u.len()];
+        for (n, p) in self.model.mesh.nodes.iter().enumerate() {
+            let x = [p[0] + u[2 * n], p[1] + u[2 * n + 1]];
+            guess[2 * n] = c * x[0] - s * x[1] - p[0];
+            guess[2 * n + 1] = s * x[0] + c * x[1] - p[1];
+        }
+        guess
+    }
+
+    fn try_step(&mut self, dt: f64) -> Result<(State, [f64; 2], usize), NewtonError> {
+        let mut u = self.rotational_guess(dt);
+        let load_scale = self.load_scale();
+        let m = &self.model;
+        let inertia = Inertia {
+            mass: &m.mass,
+            pattern: &m.pattern,
+            factor: m.newmark.inertia_factor(dt),
+            predictor: m.newmark.predict_u(dt, &self.state),
+        };
+        let mut terms: Vec<&dyn Term> = vec![&inertia, &m.elastic, &m.gravity];
+        terms.extend(m.extra_terms.iter().map(|t| t.as_ref()));
+        let mut lambda = self.lambda;
+        let settings = NewtonSettings {
+            tolerance: m.config.solver.tolerance,
+            max_iterations: m.config.solver.max_iterations,
+            residual_tolerance: RESIDUAL_TOLERANCE,
+            load_scale,
+        };
+        let t_new = self.state.t + dt;
+        let report = self
+            .solver
+            .minimize(&m.pattern, &terms, t_new, &mut u, &mut lambda, &settings)?;
+        if std::env::var_os("PENDULUM_DEBUG").is_some() {
+            eprintln!(
+                "t = {t_new:.5}: decrements {:?} steps {:?}",
+                report.decrements, report.step_lengths
+            );
+        }
+        let new_state = m.newmark.correct(dt, &self.state, u);
+        Ok((new_state, lambda, report.iterations))
+    }
+
+    /// Advances by `dt`, halving on failure; returns the Newton iterations used.
+    fn advance_by(&mut self, dt: f64, depth: usize) -> Result<usize, (NewtonError, f64)> {
+        match self.try_step(dt) {
+            Ok((state, lambda, its)) => {
+                self.state = state;
+                self.lambda = lambda;
+                Ok(its)
+            }
+            Err(e) if depth < self.model.config.solver.max_cutbacks => {
+                if std::env::var_os("PENDULUM_DEBUG").is_some() {
+                    eprintln!("cut-back at t = {} dt = {dt}: {e}", self.state.t);
+                }
+                self.cutbacks += 1;
+                let a = self.advance_by(0.5 * dt, depth + 1)?;
+                let b = self.advance_by(0.5 * dt, depth + 1)?;
+                let _ = e;
+                Ok(a + b)
+            }
+            Err(e) => Err((e, dt)),
+        }
+    }
+
+    /// Advances one user step of `time.dt` and returns its record.
+    pub fn advance(&mut self) -> Result<StepRecord, Error> {
+        let dt = self.model.config.time.dt;
+        let t0 = self.state.t;
+        let its = self.advance_by(dt, 0).map_err(|(source, dt_min)| Error::TimeStep {
+            step: self.step + 1,
+            t: t0,
+            dt: dt_min,
+            source,
+        })?;
+        self.step += 1;
+        // exact step times, free of accumulated rounding
+        self.state.t = self.step as f64 * dt;
+        self.total_iterations += its;
+        Ok(self.record(its))
+    }
+}

@@ -1,0 +1,48 @@
+//! Physical effects as energy terms `Π_i(u, t)`.
+//!
+//! The incremental potential of a time step is the sum of the inertia term and the terms here;
+//! the Newton solver sees only their sum. Each term gives its energy, adds its gradient into a
+//! caller-owned vector and its Hessian into the values of the fixed sparsity pattern
+//! ([`crate::assembly::Pattern`]). A term that couples degrees of freedom outside the element
+//! pattern lists those entries once with [`Term::hessian_entries`]; it must then write exactly those
+//! entries at every call (zeros when inactive), so the symbolic factorisation stays valid.
+//!
+//! Energies are in joules, gradients in newtons, Hessians in N/m; `u` is the interleaved nodal
+//! displacement vector \[m\], `t` the time \[s\]. An energy of `+∞` marks an inadmissible state.
+
+use crate::assembly::Pattern;
+
+pub mod elastic;
+pub mod gravity;
+pub mod inertia;
+
+pub use elastic::Elastic;
+pub use gravity::Gravity;
+pub use inertia::Inertia;
+
+/// One additive contribution to the potential.
+pub trait Term: Send + Sync {
+    /// Short name for reports.
+    fn name(&self) -> &'static str;
+
+    /// `Π(u, t)` \[J\]; `+∞` for an inadmissible state.
+    fn energy(&self, u: &[f64], t: f64) -> f64;
+
+    /// `g += ∂Π/∂u`.
+    fn add_gradient(&self, u: &[f64], t: f64, g: &mut [f64]);
+
+    /// `K += ∂²Π/∂u²` into the upper-triangle `values` of `pattern`.
+    fn add_hessian(&self, u: &[f64], t: f64, pattern: &Pattern, values: &mut [f64]);
+
+    /// Energy, gradient and Hessian in one pass (terms override this when fusing saves work).
+    fn assemble(&self, u: &[f64], t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
+        self.add_gradient(u, t, g);
+        self.add_hessian(u, t, pattern, values);
+        self.energy(u, t)
+    }
+
+    /// Entries `(row, col)` outside the element pattern that this term writes; called once.
+    fn hessian_entries(&self) -> Vec<(usize, usize)> {
+        Vec::new()
+    }
+}
