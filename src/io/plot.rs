@@ -146,16 +146,21 @@ fn range_of<'a>(values: impl IntoIterator<Item = &'a f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// Axis label text for a value on an axis spanning `span`.
+/// Axis label text for a value on an axis spanning `span` (decimals for about five ticks).
 fn axis_label(v: f64, span: f64) -> String {
-    if v == 0.0 {
+    if v.abs() <= 1e-9 * span {
         "0".into()
     } else if !(1e-3..1e5).contains(&span) {
         format!("{v:.2e}")
     } else {
-        let d = (2 - span.log10().floor() as i32).clamp(0, 6) as usize;
+        let d = (-(span / 5.0).log10().floor() as i32).clamp(0, 6) as usize;
         format!("{v:.d$}")
     }
+}
+
+/// Raises the top of a range by 30 % so the legend sits above the curves.
+fn with_legend_room((lo, hi): (f64, f64)) -> (f64, f64) {
+    (lo, hi + 0.3 * (hi - lo))
 }
 
 fn time_range(h: &History) -> (f64, f64) {
@@ -177,7 +182,7 @@ fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
         deg.iter().fold(0.0f64, |a, v| a.max(v.abs()))
     };
     let (t0, t1) = time_range(h);
-    let (lo, hi) = range_of(deg.iter().chain([theta_max, -theta_max].iter()));
+    let (lo, hi) = with_legend_room(range_of(deg.iter().chain([theta_max, -theta_max].iter())));
     let mut chart = ChartBuilder::on(root)
         .caption("Rigid-body angle proxy θ(t)", ("sans-serif", 26))
         .margin(16)
@@ -250,7 +255,7 @@ fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
         ("strain", &h.strain, RGBColor(255, 127, 14)),
         ("total", &h.total, BLACK),
     ];
-    let (lo, hi) = range_of(series.iter().flat_map(|s| s.1.iter()));
+    let (lo, hi) = with_legend_room(range_of(series.iter().flat_map(|s| s.1.iter())));
     let ys = hi - lo;
     let mut chart = ChartBuilder::on(&upper)
         .margin(14)
