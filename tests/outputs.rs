@@ -95,6 +95,20 @@ fn plots_are_pngs_with_axes_curves_and_text() {
 }
 
 #[test]
+fn frames_that_do_not_match_the_mesh_are_refused_naming_the_field() {
+    let dir = temp_dir("mismatch");
+    let mesh = plate_mesh(1, 2);
+    let mut data = synthetic_frame(&mesh, 0, 0.01);
+    data.von_mises.pop();
+    let mut w = FrameWriters::new(&dir, &mesh, &all_outputs(), None).unwrap();
+    let err = w.frame(&data.frame()).unwrap_err().to_string();
+    assert!(
+        err.contains("von_mises") && err.contains(&mesh.num_nodes().to_string()),
+        "{err}"
+    );
+}
+
+#[test]
 fn plots_without_results_csv_fail_naming_the_file() {
     let dir = temp_dir("nocsv");
     let mesh = plate_mesh(1, 2);

@@ -11,9 +11,23 @@
 //! | `viewer`    | `viewer.html`                                      | in `finish`        |
 //! | `plots`     | `theta.png`, `energy.png` (from `results.csv`)     | in `finish`        |
 //!
-//! A flag that is off means its files are not written at all. The animations and the viewer share
+//! Call `finish` after `results.csv` is complete and flushed (the plots read it back). A flag that
+//! is off means its files are not written at all. The animations and the viewer share
 //! one bounded set of kept frames ([`KeptFrames`], at most `output.max_frames`), so memory does not
 //! grow with the length of the run.
+//!
+//! ```no_run
+//! # use pendulum_fem::{config::Config, io::{prepare_output_dir, Frame, FrameWriters}, Mesh};
+//! # fn demo(cfg: &Config, mesh: &Mesh, out: Option<&std::path::Path>, frames: &[Frame<'_>]) -> Result<(), pendulum_fem::Error> {
+//! let dir = prepare_output_dir(&cfg.output.dir, out, false)?; // before any computing
+//! let mut writers = FrameWriters::new(&dir, mesh, &cfg.output, None)?;
+//! for frame in frames {
+//!     writers.frame(frame)?; // every step, step 0 included
+//! }
+//! // … finish results.csv …
+//! let written = writers.finish()?;
+//! # Ok(()) }
+//! ```
 
 use std::path::{Path, PathBuf};
 
@@ -42,19 +56,20 @@ pub mod names {
 
 /// Writes the frame outputs of one run into one folder.
 #[derive(Debug)]
-pub struct FrameWriters<'m> {
+pub struct FrameWriters {
     dir: PathBuf,
-    mesh: &'m Mesh,
+    /// A copy of the mesh, so the writers borrow nothing from the simulation.
+    mesh: Mesh,
     output: Output,
     wall_x: Option<f64>,
     pvd: Option<PvdWriter>,
     kept: Option<KeptFrames>,
 }
 
-impl<'m> FrameWriters<'m> {
+impl FrameWriters {
     /// Prepares writing into `dir` (created if missing; an empty `pendulum.pvd` is written at once
     /// when ParaView output is on). `wall_x` draws a wall line at that `x` \[m\] in the pictures.
-    pub fn new(dir: &Path, mesh: &'m Mesh, output: &Output, wall_x: Option<f64>) -> Result<Self, Error> {
+    pub fn new(dir: &Path, mesh: &Mesh, output: &Output, wall_x: Option<f64>) -> Result<Self, Error> {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         let pvd = if output.paraview {
             Some(PvdWriter::new(dir)?)
@@ -64,7 +79,7 @@ impl<'m> FrameWriters<'m> {
         let kept = (output.animation || output.viewer).then(|| KeptFrames::new(output.max_frames));
         Ok(Self {
             dir: dir.to_path_buf(),
-            mesh,
+            mesh: mesh.clone(),
             output: output.clone(),
             wall_x,
             pvd,
@@ -92,7 +107,7 @@ impl<'m> FrameWriters<'m> {
             )));
         }
         if let Some(pvd) = &mut self.pvd {
-            pvd.write_frame(self.mesh, frame)?;
+            pvd.write_frame(&self.mesh, frame)?;
         }
         if let Some(kept) = &mut self.kept {
             kept.push(KeptFrame::from_frame(&self.mesh.nodes, frame));
@@ -137,7 +152,7 @@ impl<'m> FrameWriters<'m> {
                 (names::VON_MISES_GIF, AnimField::VonMises),
             ] {
                 let path = self.dir.join(name);
-                anim::write_gif(&path, self.mesh, &frames, field, &scene)?;
+                anim::write_gif(&path, &self.mesh, &frames, field, &scene)?;
                 paths.push(path);
             }
         }
@@ -150,7 +165,7 @@ impl<'m> FrameWriters<'m> {
                 .unwrap_or_default();
             viewer::write_viewer(
                 &path,
-                self.mesh,
+                &self.mesh,
                 &frames,
                 &scene,
                 history.as_ref(),
