@@ -109,7 +109,7 @@ fn frames_that_do_not_match_the_mesh_are_refused_naming_the_field() {
 }
 
 #[test]
-fn plots_without_results_csv_fail_naming_the_file() {
+fn plots_without_results_csv_fail_naming_the_file_after_writing_the_rest() {
     let dir = temp_dir("nocsv");
     let mesh = plate_mesh(1, 2);
     let output = Output {

@@ -120,57 +120,41 @@ impl FrameWriters {
     pub fn finish(self) -> Result<Vec<PathBuf>, Error> {
         let mut paths = self.pvd.map(PvdWriter::into_paths).unwrap_or_default();
         let csv = self.dir.join(names::RESULTS_CSV);
-        let history = if self.output.plots {
-            Some(History::read_csv(&csv)?)
-        } else if self.output.viewer {
-            History::read_csv(&csv).ok()
-        } else {
-            None
-        };
-        if self.output.plots {
-            let h = history.as_ref().expect("read above");
-            for (name, write) in [
-                (
-                    names::THETA_PNG,
-                    plot::write_theta_png as fn(&Path, &History) -> Result<(), Error>,
-                ),
-                (names::ENERGY_PNG, plot::write_energy_png),
-            ] {
-                let path = self.dir.join(name);
-                write(&path, h)?;
-                paths.push(path);
-            }
-        }
+        let history = (self.output.plots || self.output.viewer).then(|| History::read_csv(&csv));
         let frames = self.kept.map(KeptFrames::into_frames).unwrap_or_default();
-        if frames.is_empty() {
-            return Ok(paths);
-        }
-        let scene = Scene::new(&self.mesh.nodes, &frames, self.output.magnification, self.wall_x);
-        if self.output.animation {
-            for (name, field) in [
-                (names::DISPLACEMENT_GIF, AnimField::Displacement),
-                (names::VON_MISES_GIF, AnimField::VonMises),
-            ] {
-                let path = self.dir.join(name);
-                anim::write_gif(&path, &self.mesh, &frames, field, &scene)?;
+        if !frames.is_empty() {
+            let scene = Scene::new(&self.mesh.nodes, &frames, self.output.magnification, self.wall_x);
+            if self.output.animation {
+                for (name, field) in [
+                    (names::DISPLACEMENT_GIF, AnimField::Displacement),
+                    (names::VON_MISES_GIF, AnimField::VonMises),
+                ] {
+                    let path = self.dir.join(name);
+                    anim::write_gif(&path, &self.mesh, &frames, field, &scene)?;
+                    paths.push(path);
+                }
+            }
+            if self.output.viewer {
+                let path = self.dir.join(names::VIEWER_HTML);
+                let run = self
+                    .dir
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                // Without a readable results.csv the viewer's θ curve comes from the kept frames.
+                let h = history.as_ref().and_then(|r| r.as_ref().ok());
+                viewer::write_viewer(&path, &self.mesh, &frames, &scene, h, &format!("pendulum-fem: {run}"))?;
                 paths.push(path);
             }
         }
-        if self.output.viewer {
-            let path = self.dir.join(names::VIEWER_HTML);
-            let run = self
-                .dir
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            viewer::write_viewer(
-                &path,
-                &self.mesh,
-                &frames,
-                &scene,
-                history.as_ref(),
-                &format!("pendulum-fem: {run}"),
-            )?;
+        // Plots last: a missing results.csv is an error, but the pictures above are written anyway.
+        if let (true, Some(history)) = (self.output.plots, history) {
+            let h = history?;
+            let path = self.dir.join(names::THETA_PNG);
+            plot::write_theta_png(&path, &h)?;
+            paths.push(path);
+            let path = self.dir.join(names::ENERGY_PNG);
+            plot::write_energy_png(&path, &h)?;
             paths.push(path);
         }
         Ok(paths)
