@@ -182,6 +182,15 @@ mod tests {
     }
 
     #[test]
+    fn bar_mode_template_is_valid_and_accepts_updates() {
+        let mut p = Progress::new(10, ProgressMode::Bar);
+        for s in 1..=10 {
+            p.update(s, s as f64 * 0.1, 2 * s);
+        }
+        p.finish();
+    }
+
+    #[test]
     fn quiet_mode_is_silent_and_does_not_panic() {
         let mut p = Progress::new(10, ProgressMode::Quiet);
         p.update(5, 0.5, 10);

@@ -518,6 +518,28 @@ mod tests {
     }
 
     #[test]
+    fn thinning_holds_for_every_bound_and_run_length() {
+        for max in 2..20 {
+            for n in 1..300 {
+                let mut k = KeptFrames::new(max);
+                for s in 0..n {
+                    k.push(dummy(s));
+                }
+                let frames = k.into_frames();
+                assert!(frames.len() <= max, "max {max}, n {n}: {}", frames.len());
+                assert!(
+                    frames.len() >= max.min(n) / 2,
+                    "max {max}, n {n}: only {}",
+                    frames.len()
+                );
+                assert_eq!(frames[0].step, 0);
+                assert_eq!(frames.last().unwrap().step, n - 1);
+                assert!(frames.windows(2).all(|w| w[1].step > w[0].step));
+            }
+        }
+    }
+
+    #[test]
     fn few_frames_are_all_kept() {
         let mut k = KeptFrames::new(10);
         for s in 0..7 {
