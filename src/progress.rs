@@ -97,8 +97,8 @@ impl Progress {
     pub fn update(&mut self, step: usize, t: f64, newton_its_total: usize) {
         self.last = (step, t, newton_its_total);
         if let Some(bar) = &self.bar {
-            bar.set_position(step as u64);
             bar.set_message(format!("t = {t:.4} s, {newton_its_total} Newton its"));
+            bar.set_position(step as u64);
         }
         if self.lines.is_some() && self.total > 0 {
             let decile = step * 10 / self.total;
