@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use pendulum_fem::commands::run::{run_with, RunOptions, RunSummary};
+use pendulum_fem::commands::run::{RunOptions, RunSummary};
 use pendulum_fem::{config, Config, Error};
 
 /// Finite-element simulation of a deformable pendulum (the NGSolve tutorial "FEM Pendulum").
@@ -150,26 +150,34 @@ fn print_summary(s: &RunSummary) {
         "  energy drift       {:.3e} of the largest kinetic energy",
         s.energy_drift
     );
+    println!("  writing outputs    {:.3} s of the wall time", s.seconds_outputs);
     println!("  results in         {}", s.out_dir.display());
-    for f in &s.files {
+    let (frames, others): (Vec<_>, Vec<_>) = s
+        .files
+        .iter()
+        .partition(|f| f.parent().and_then(|p| p.file_name()).is_some_and(|n| n == "frames"));
+    for f in others {
         println!("    {}", f.display());
+    }
+    if let (Some(first), Some(last)) = (frames.first(), frames.last()) {
+        println!(
+            "    {} … {} ({} ParaView frames)",
+            first.display(),
+            last.file_name().unwrap_or_default().to_string_lossy(),
+            frames.len()
+        );
     }
 }
 
 fn run(args: RunArgs) -> Result<(), Error> {
     let config = load(&args.cfg)?;
-    let out_dir = match &args.out {
-        Some(dir) => dir.clone(),
-        None => config.output.dir.clone(),
-    };
-    std::fs::create_dir_all(&out_dir).map_err(|e| Error::io(&out_dir, e))?;
     let opts = RunOptions {
         config,
         out: args.out.clone(),
         force: args.force,
         quiet: args.quiet,
     };
-    let summary = run_with(&opts, out_dir, |_, _| Ok(()))?;
+    let summary = pendulum_fem::commands::run::run(&opts)?;
     print_summary(&summary);
     Ok(())
 }
