@@ -31,7 +31,7 @@ use crate::{Config, Error};
 pub const MIN_ANGLE_BOUND_DEG: f64 = 30.0;
 
 /// A triangle is refined if its longest edge exceeds this factor times `h(centroid)`.
-pub const SIZE_FACTOR: f64 = 1.45;
+pub const SIZE_FACTOR: f64 = 1.6;
 
 /// Counts reported by [`generate_with_stats`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -70,8 +70,8 @@ pub fn mesh_shape(shape: &Shape, max_size: f64, grading: f64, order: u32) -> Res
         size_factor: SIZE_FACTOR,
     };
     let mut refiner = Refiner::new(&points, &segments, &curves, &field, settings, max_vertices)?;
-    refiner.run()?;
-    let mut mesh = extract(&refiner, shape, order)?;
+    let inside = refiner.run()?;
+    let mut mesh = extract(&refiner, &inside, shape, order)?;
     let straightened = if order == 2 { fix_jacobians(&mut mesh)? } else { 0 };
     Ok((
         mesh,
@@ -187,10 +187,9 @@ fn estimate_vertices(shape: &Shape, field: &SizeField) -> usize {
 }
 
 /// Builds the [`Mesh`] from the inside faces of the refined triangulation.
-fn extract(refiner: &Refiner<'_>, shape: &Shape, order: u32) -> Result<Mesh, Error> {
+fn extract(refiner: &Refiner<'_>, inside: &[bool], shape: &Shape, order: u32) -> Result<Mesh, Error> {
     use spade::Triangulation;
     let cdt = &refiner.cdt;
-    let inside = refiner.classify();
     let faces: Vec<_> = cdt.inner_faces().filter(|f| inside[f.fix().index()]).collect();
     if faces.is_empty() {
         return Err(Error::Mesh("the triangulation has no inside triangles".into()));
@@ -281,10 +280,15 @@ fn extract(refiner: &Refiner<'_>, shape: &Shape, order: u32) -> Result<Mesh, Err
 fn fix_jacobians(mesh: &mut Mesh) -> Result<usize, Error> {
     let mut straightened = 0;
     for t in 0..mesh.triangles.len() {
-        if mesh.min_jacobian(t) > 0.0 {
+        let tri = mesh.triangles[t];
+        // A straight counter-clockwise element has a constant positive Jacobian.
+        let curved = (0..3).any(|k| {
+            let (a, b) = (mesh.nodes[tri[k]], mesh.nodes[tri[(k + 1) % 3]]);
+            mesh.nodes[tri[3 + k]] != [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
+        });
+        if !curved || mesh.min_jacobian(t) > 0.0 {
             continue;
         }
-        let tri = mesh.triangles[t];
         for k in 0..3 {
             let (a, b) = (mesh.nodes[tri[k]], mesh.nodes[tri[(k + 1) % 3]]);
             let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
