@@ -778,7 +778,10 @@ fn dist(a: Point, b: Point) -> f64 {
 }
 
 fn rotate(p: Point, pivot: Point, angle: f64) -> Point {
+    // Exact for multiples of 90° (sin π is 1.2e-16 in floating point, not 0).
+    let snap = |v: f64| if v.abs() < 1e-15 { 0.0 } else { v };
     let (s, c) = angle.sin_cos();
+    let (s, c) = (snap(s), snap(c));
     let d = sub(p, pivot);
     [pivot[0] + c * d[0] - s * d[1], pivot[1] + s * d[0] + c * d[1]]
 }

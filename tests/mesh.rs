@@ -63,7 +63,7 @@ fn hinge_edges_lie_on_y_zero_within_the_rod_and_cover_its_width() {
     for e in mesh.edges_named(geometry::ROTATION) {
         for &n in &e.nodes {
             let [x, y] = mesh.nodes[n];
-            assert!(y.abs() < 1e-15 && x.abs() <= r + 1e-15, "hinge node ({x}, {y})");
+            assert!(y == 0.0 && x.abs() <= r, "hinge node ({x}, {y})");
         }
         length += chord(&mesh, e.nodes);
     }
