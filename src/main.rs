@@ -90,6 +90,9 @@ struct BenchArgs {
     /// Steps per mesh (`scaling`).
     #[arg(long, default_value_t = 5)]
     steps: usize,
+    /// Triangles of the large mesh (`mesh`).
+    #[arg(long, default_value_t = 1_000_000)]
+    triangles: usize,
     /// Finest refinement factor (`scaling`): sizes down to 1/N of the default (1, 2, 4, 8 ≈ 5k to 320k unknowns).
     #[arg(long, default_value_t = 8)]
     finest: usize,
@@ -103,6 +106,8 @@ enum BenchTarget {
     Scaling,
     /// Resident memory after 100 and 1000 steps.
     Memory,
+    /// The tutorial mesh and a mesh of about `--triangles` triangles.
+    Mesh,
 }
 
 fn bench(args: BenchArgs) -> Result<(), Error> {
@@ -112,6 +117,7 @@ fn bench(args: BenchArgs) -> Result<(), Error> {
         BenchTarget::Run => bench::bench_run(&config, args.repeats, args.ngsolve.as_deref(), &args.anchor),
         BenchTarget::Scaling => bench::bench_scaling(&config, args.steps, args.finest),
         BenchTarget::Memory => bench::bench_memory(&config, 100, 1000),
+        BenchTarget::Mesh => pendulum_fem::mesh::bench::bench_mesh(&config, Some(args.triangles)).map(|_| ()),
     }
 }
 

@@ -164,7 +164,12 @@ fn a_soft_pendulum_stretches_swings_slower_than_the_rigid_one_and_matches_ngsolv
     let (sim, records) = simulate(&cfg);
     let refs = reference("ngsolve_soft_45deg.csv");
     assert_eq!(refs.len(), records.len());
-    let worst = records.iter().zip(&refs).map(|(r, (_, th, _))| (r.theta - th).abs()).fold(0.0, f64::max).to_degrees();
+    let worst = records
+        .iter()
+        .zip(&refs)
+        .map(|(r, (_, th, _))| (r.theta - th).abs())
+        .fold(0.0, f64::max)
+        .to_degrees();
     let mut est = PeriodEstimator::default();
     records.iter().for_each(|r| est.push(r.time, r.theta));
     let period = est.period().expect("two zero crossings in 1 s");
