@@ -291,11 +291,6 @@ impl Solver {
                 if r > REFACTOR_CONTRACTION * r_prev {
                     need_factor = true;
                 }
-                if std::env::var_os("PENDULUM_DEBUG").is_some() {
-                    eprintln!(
-                        "  it {iteration}: δ² {decrement:.3e} residual {r:.3e} previous {r_prev:.3e} dphi {dphi:.4}"
-                    );
-                }
                 r_prev = r;
                 continue;
             }

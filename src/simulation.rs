@@ -532,12 +532,6 @@ impl Simulation {
         let report = self
             .solver
             .minimize(&m.pattern, &terms, t_new, &mut u, &mut lambda, &settings)?;
-        if std::env::var_os("PENDULUM_DEBUG").is_some() {
-            eprintln!(
-                "t = {t_new:.5}: decrements {:?} steps {:?}",
-                report.decrements, report.step_lengths
-            );
-        }
         let new_state = m.newmark.correct(dt, &self.state, u);
         self.total_factorizations += report.factorizations;
         Ok((new_state, lambda, report.iterations))
@@ -555,9 +549,6 @@ impl Simulation {
                 Ok(its)
             }
             Err(e) if depth < self.model.config.solver.max_cutbacks => {
-                if std::env::var_os("PENDULUM_DEBUG").is_some() {
-                    eprintln!("cut-back at t = {} dt = {dt}: {e}", self.state.t);
-                }
                 self.cutbacks += 1;
                 let a = self.advance_by(0.5 * dt, depth + 1)?;
                 let b = self.advance_by(0.5 * dt, depth + 1)?;
