@@ -87,6 +87,11 @@ pub enum Error {
         /// The last Newton failure.
         source: NewtonError,
     },
+    /// The initial elastic equilibrium (`initial.elastic = "equilibrium"`) could not be found.
+    InitialEquilibrium {
+        /// The Newton failure.
+        source: NewtonError,
+    },
     /// A file could not be read or written.
     Io {
         /// The file or folder.
@@ -120,6 +125,10 @@ impl fmt::Display for Error {
                     "time step {step} from t = {t:.6} s failed (smallest dt tried {dt:.3e} s): {source}"
                 )
             }
+            Self::InitialEquilibrium { source } => write!(
+                f,
+                "the initial elastic equilibrium failed ({source}); try initial.elastic = \"undeformed\""
+            ),
             Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
             Self::Input(m) => write!(f, "input: {m}"),
             Self::LinearSolver(m) => write!(f, "linear solver: {m}"),
@@ -130,7 +139,7 @@ impl fmt::Display for Error {
 impl std::error::Error for Error {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
-            Self::TimeStep { source, .. } => Some(source),
+            Self::TimeStep { source, .. } | Self::InitialEquilibrium { source } => Some(source),
             Self::Io { source, .. } => Some(source),
             _ => None,
         }

@@ -178,7 +178,7 @@ impl Curve {
                 sweep,
             } => {
                 let d = [p[0] - center[0], p[1] - center[1]];
-                let r = d[0].hypot(d[1]);
+                let r = (d[0] * d[0] + d[1] * d[1]).sqrt();
                 if r > 0.0 && angle_param(d[1].atan2(d[0]), start, sweep).is_some() {
                     (r - radius).abs()
                 } else {
@@ -774,11 +774,14 @@ fn cross(a: Point, b: Point) -> f64 {
 }
 
 fn dist(a: Point, b: Point) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
 }
 
 fn rotate(p: Point, pivot: Point, angle: f64) -> Point {
+    // Exact for multiples of 90° (sin π is 1.2e-16 in floating point, not 0).
+    let snap = |v: f64| if v.abs() < 1e-15 { 0.0 } else { v };
     let (s, c) = angle.sin_cos();
+    let (s, c) = (snap(s), snap(c));
     let d = sub(p, pivot);
     [pivot[0] + c * d[0] - s * d[1], pivot[1] + s * d[0] + c * d[1]]
 }

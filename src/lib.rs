@@ -36,6 +36,7 @@ pub mod error;
 pub mod geometry;
 pub mod io;
 pub mod mesh;
+pub mod progress;
 
 pub use config::Config;
 pub use error::Error;

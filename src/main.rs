@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use pendulum_fem::commands::run::{run_with, RunOptions, RunSummary};
+use pendulum_fem::commands::run::{RunOptions, RunSummary};
 use pendulum_fem::{config, Config, Error};
 
 /// Finite-element simulation of a deformable pendulum (the NGSolve tutorial "FEM Pendulum").
@@ -90,6 +90,9 @@ struct BenchArgs {
     /// Steps per mesh (`scaling`).
     #[arg(long, default_value_t = 5)]
     steps: usize,
+    /// Triangles of the large mesh (`mesh`).
+    #[arg(long, default_value_t = 1_000_000)]
+    triangles: usize,
     /// Finest refinement factor (`scaling`): sizes down to 1/N of the default (1, 2, 4, 8 ≈ 5k to 320k unknowns).
     #[arg(long, default_value_t = 8)]
     finest: usize,
@@ -103,6 +106,8 @@ enum BenchTarget {
     Scaling,
     /// Resident memory after 100 and 1000 steps.
     Memory,
+    /// The tutorial mesh and a mesh of about `--triangles` triangles.
+    Mesh,
 }
 
 fn bench(args: BenchArgs) -> Result<(), Error> {
@@ -112,6 +117,7 @@ fn bench(args: BenchArgs) -> Result<(), Error> {
         BenchTarget::Run => bench::bench_run(&config, args.repeats, args.ngsolve.as_deref(), &args.anchor),
         BenchTarget::Scaling => bench::bench_scaling(&config, args.steps, args.finest),
         BenchTarget::Memory => bench::bench_memory(&config, 100, 1000),
+        BenchTarget::Mesh => pendulum_fem::mesh::bench::bench_mesh(&config, Some(args.triangles)).map(|_| ()),
     }
 }
 
@@ -150,26 +156,34 @@ fn print_summary(s: &RunSummary) {
         "  energy drift       {:.3e} of the largest kinetic energy",
         s.energy_drift
     );
+    println!("  writing outputs    {:.3} s of the wall time", s.seconds_outputs);
     println!("  results in         {}", s.out_dir.display());
-    for f in &s.files {
+    let (frames, others): (Vec<_>, Vec<_>) = s
+        .files
+        .iter()
+        .partition(|f| f.parent().and_then(|p| p.file_name()).is_some_and(|n| n == "frames"));
+    for f in others {
         println!("    {}", f.display());
+    }
+    if let (Some(first), Some(last)) = (frames.first(), frames.last()) {
+        println!(
+            "    {} … {} ({} ParaView frames)",
+            first.display(),
+            last.file_name().unwrap_or_default().to_string_lossy(),
+            frames.len()
+        );
     }
 }
 
 fn run(args: RunArgs) -> Result<(), Error> {
     let config = load(&args.cfg)?;
-    let out_dir = match &args.out {
-        Some(dir) => dir.clone(),
-        None => config.output.dir.clone(),
-    };
-    std::fs::create_dir_all(&out_dir).map_err(|e| Error::io(&out_dir, e))?;
     let opts = RunOptions {
         config,
         out: args.out.clone(),
         force: args.force,
         quiet: args.quiet,
     };
-    let summary = run_with(&opts, out_dir, |_, _| Ok(()))?;
+    let summary = pendulum_fem::commands::run::run(&opts)?;
     print_summary(&summary);
     Ok(())
 }

@@ -35,6 +35,12 @@ pub struct NewtonSettings {
     pub residual_tolerance: f64,
     /// Size of the applied nodal forces (gravity, inertia, torque) \[N\]; see [`NewtonSettings::residual_tolerance`].
     pub load_scale: f64,
+    /// Proxy angle of the starting point \[rad\]: the frame in which a reused factorisation is rotated.
+    pub frame_angle: f64,
+    /// Identifies the matrix family (the mass factor `1/(βΔt²)`); a change forces a refactorisation.
+    pub matrix_key: f64,
+    /// Allow reusing a factorisation from an earlier call (see [`Solver::minimize`]).
+    pub reuse: bool,
 }
 
 /// What happened in a converged solve.
@@ -76,8 +82,29 @@ pub struct Solver {
     k: Vec<f64>,
     rhs: Vec<f64>,
     trial: Vec<f64>,
+    /// `(proxy angle, matrix key)` of the current factorisation.
+    factor_frame: Option<(f64, f64)>,
     /// Accumulated timings.
     pub timings: Timings,
+}
+
+/// A reused factorisation must reduce the residual at least by this factor per iteration.
+pub const REFACTOR_CONTRACTION: f64 = 0.5;
+
+/// `angle` wrapped into `(−π, π]`.
+fn wrap_angle(angle: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    angle - tau * (angle / tau).round()
+}
+
+/// Rotates every `(x, y)` pair of `v` by `angle`.
+fn rotate_pairs(v: &mut [f64], angle: f64) {
+    let (s, c) = angle.sin_cos();
+    for p in v.chunks_exact_mut(2) {
+        let (x, y) = (p[0], p[1]);
+        p[0] = c * x - s * y;
+        p[1] = s * x + c * y;
+    }
 }
 
 fn residual_norm_of(g: &[f64], rows: &[Vec<f64>; 2], lam: [f64; 2]) -> f64 {
@@ -101,6 +128,7 @@ impl Solver {
             k: vec![0.0; pattern.nnz()],
             rhs: vec![0.0; 3 * n],
             trial: vec![0.0; n],
+            factor_frame: None,
             chol,
             timings: Timings::default(),
         })
@@ -127,13 +155,82 @@ impl Solver {
         phi
     }
 
+    /// Energy and gradient (no Hessian) at `u` into `self.g`.
+    fn energy_gradient(&mut self, terms: &[&dyn Term], u: &[f64], t: f64) -> f64 {
+        let start = std::time::Instant::now();
+        self.g.iter_mut().for_each(|x| *x = 0.0);
+        let mut phi = 0.0;
+        for term in terms {
+            phi += term.energy_gradient(u, t, &mut self.g);
+        }
+        self.timings.residual += start.elapsed().as_secs_f64();
+        phi
+    }
+
+    /// Gradient only at `u` into `self.g`.
+    fn gradient_only(&mut self, terms: &[&dyn Term], u: &[f64], t: f64) {
+        let start = std::time::Instant::now();
+        self.g.iter_mut().for_each(|x| *x = 0.0);
+        for term in terms {
+            term.add_gradient(u, t, &mut self.g);
+        }
+        self.timings.residual += start.elapsed().as_secs_f64();
+    }
+
+    /// Solves `K̃ Δu + Cᵀλ = −g`, `C(u + Δu) = 0` with the current factorisation, rotated by `dphi`
+    /// from its frame into the current one; returns `(Δu, λ, δ²)`.
+    fn constrained_solve(&mut self, u: &[f64], dphi: f64) -> (Vec<f64>, [f64; 2], f64) {
+        let start = std::time::Instant::now();
+        let n = self.g.len();
+        // Columns: −g, Cᵀ row x, Cᵀ row y, each rotated by −dphi into the factor's frame.
+        for i in 0..n {
+            self.rhs[i] = -self.g[i];
+        }
+        self.rhs[n..2 * n].copy_from_slice(&self.rows[0]);
+        self.rhs[2 * n..].copy_from_slice(&self.rows[1]);
+        let rotate = dphi != 0.0;
+        if rotate {
+            rotate_pairs(&mut self.rhs, -dphi);
+        }
+        self.chol.solve_in_place(&mut self.rhs);
+        if rotate {
+            rotate_pairs(&mut self.rhs, dphi);
+        }
+        let (y, z) = self.rhs.split_at(n);
+        let (zx, zy) = z.split_at(n);
+        let s = [
+            [dot(&self.rows[0], zx), dot(&self.rows[0], zy)],
+            [dot(&self.rows[1], zx), dot(&self.rows[1], zy)],
+        ];
+        // C(u + Δu) = 0 with Δu = y − Zλ  ⇒  S λ = C y + C u.
+        let b = [
+            dot(&self.rows[0], y) + dot(&self.rows[0], u),
+            dot(&self.rows[1], y) + dot(&self.rows[1], u),
+        ];
+        let det = s[0][0] * s[1][1] - s[0][1] * s[1][0];
+        let lam = [
+            (b[0] * s[1][1] - b[1] * s[0][1]) / det,
+            (s[0][0] * b[1] - s[1][0] * b[0]) / det,
+        ];
+        let du: Vec<f64> = (0..n).map(|i| y[i] - zx[i] * lam[0] - zy[i] * lam[1]).collect();
+        let decrement = -(dot(&du, &self.g) + lam[0] * dot(&self.rows[0], &du) + lam[1] * dot(&self.rows[1], &du));
+        self.timings.solve += start.elapsed().as_secs_f64();
+        (du, lam, decrement)
+    }
+
     /// Minimises `Σ terms` at time `t` from the feasible `u`; on success `u` and `lambda` hold the
     /// solution and its multipliers.
     ///
-    /// After an update with `δ² < tolerance` the residual is checked at the new point. If it is
-    /// still too large, the next iteration reuses the current factorisation with the fresh gradient
-    /// (a modified-Newton step: the update was below the energy tolerance, so the tangent has not
-    /// changed appreciably); otherwise every iteration refactorises.
+    /// **Tangent reuse.** The strain energy is objective, so the tangent of a rigidly rotated
+    /// state is `Q K Qᵀ` with `Q` the rotation of every node's two components, and the mass term
+    /// commutes with `Q`. A factorisation made in an earlier step at proxy angle `φ_f` therefore
+    /// serves the current step at angle `φ` (`settings.frame_angle`) as `K⁻¹ ≈ Q K_f⁻¹ Qᵀ`,
+    /// `Q = Q(φ − φ_f)`; it differs from the true tangent only by the change of the elastic state.
+    /// Convergence is certified exactly as with a fresh tangent (`δ² < tolerance` and the residual
+    /// check), and the solver refactorises at the current point when a reused factorisation
+    /// contracts the residual by less than [`REFACTOR_CONTRACTION`] per iteration, when it proposes
+    /// an update above the energy tolerance, when the matrix key (`settings.matrix_key`, the mass
+    /// factor `1/(βΔt²)`) changes, or when `settings.reuse` is off.
     pub fn minimize(
         &mut self,
         pattern: &Pattern,
@@ -145,49 +242,35 @@ impl Solver {
     ) -> Result<NewtonReport, NewtonError> {
         let n = pattern.n;
         let mut report = NewtonReport::default();
-        let mut phi = self.assemble(pattern, terms, u, t);
-        if !phi.is_finite() {
+        let mut phi = Some(self.energy_gradient(terms, u, t));
+        if !phi.is_some_and(f64::is_finite) {
             return Err(NewtonError::NonFinite { iteration: 0 });
         }
-        // true: K (and its factorisation to come) belong to `u`; false: reuse the last factorisation.
-        let mut fresh_tangent = true;
+        let mut r_prev = residual_norm_of(&self.g, &self.rows, *lambda);
+        let mut need_factor = !settings.reuse || self.factor_frame.is_none_or(|(_, key)| key != settings.matrix_key);
+        let mut k_at_u = false; // self.k holds the Hessian at u
+        let mut factor_at_u = false; // the factorisation was made at u
         for iteration in 1..=settings.max_iterations {
-            if fresh_tangent {
+            if need_factor {
+                if !k_at_u {
+                    phi = Some(self.assemble(pattern, terms, u, t));
+                    k_at_u = true;
+                }
                 let start = std::time::Instant::now();
                 let factored = self.chol.factor(pattern, &self.k);
                 self.timings.factorization += start.elapsed().as_secs_f64();
                 report.factorizations += 1;
                 if factored.is_err() {
+                    self.factor_frame = None;
                     return Err(NewtonError::SingularTangent { iteration });
                 }
+                self.factor_frame = Some((settings.frame_angle, settings.matrix_key));
+                need_factor = false;
+                factor_at_u = true;
             }
-            let start = std::time::Instant::now();
-            // Columns: −g, Cᵀ row x, Cᵀ row y.
-            for i in 0..n {
-                self.rhs[i] = -self.g[i];
-            }
-            self.rhs[n..2 * n].copy_from_slice(&self.rows[0]);
-            self.rhs[2 * n..].copy_from_slice(&self.rows[1]);
-            self.chol.solve_in_place(&mut self.rhs);
-            let (y, z) = self.rhs.split_at(n);
-            let (zx, zy) = z.split_at(n);
-            let s = [
-                [dot(&self.rows[0], zx), dot(&self.rows[0], zy)],
-                [dot(&self.rows[1], zx), dot(&self.rows[1], zy)],
-            ];
-            // C(u + Δu) = 0 with Δu = y − Zλ  ⇒  S λ = C y + C u.
-            let b = [
-                dot(&self.rows[0], y) + dot(&self.rows[0], u),
-                dot(&self.rows[1], y) + dot(&self.rows[1], u),
-            ];
-            let det = s[0][0] * s[1][1] - s[0][1] * s[1][0];
-            let lam = [
-                (b[0] * s[1][1] - b[1] * s[0][1]) / det,
-                (s[0][0] * b[1] - s[1][0] * b[0]) / det,
-            ];
-            let du: Vec<f64> = (0..n).map(|i| y[i] - zx[i] * lam[0] - zy[i] * lam[1]).collect();
-            let decrement = -(dot(&du, &self.g) + lam[0] * dot(&self.rows[0], &du) + lam[1] * dot(&self.rows[1], &du));
-            self.timings.solve += start.elapsed().as_secs_f64();
+            let (frame, _) = self.factor_frame.expect("a factorisation exists");
+            let dphi = wrap_angle(settings.frame_angle - frame);
+            let (du, lam, decrement) = self.constrained_solve(u, dphi);
             report.iterations = iteration;
             report.decrements.push(decrement);
             if !decrement.is_finite() {
@@ -197,28 +280,64 @@ impl Solver {
                 u.iter_mut().zip(&du).for_each(|(x, d)| *x += d);
                 *lambda = lam;
                 report.step_lengths.push(1.0);
+                (k_at_u, factor_at_u, phi) = (false, false, None);
                 // Equilibrium at the accepted point, from a gradient-only evaluation.
-                let start = std::time::Instant::now();
-                self.g.iter_mut().for_each(|x| *x = 0.0);
-                for term in terms {
-                    term.add_gradient(u, t, &mut self.g);
-                }
-                self.timings.residual += start.elapsed().as_secs_f64();
-                report.residual = residual_norm_of(&self.g, &self.rows, lam);
-                if report.residual <= settings.residual_tolerance * settings.load_scale {
+                self.gradient_only(terms, u, t);
+                let r = residual_norm_of(&self.g, &self.rows, lam);
+                report.residual = r;
+                if r <= settings.residual_tolerance * settings.load_scale {
                     return Ok(report);
                 }
-                fresh_tangent = false;
+                if r > REFACTOR_CONTRACTION * r_prev {
+                    need_factor = true;
+                }
+                r_prev = r;
                 continue;
             }
-            // A large update: line search on Φ with fresh assemblies.
-            if !fresh_tangent {
-                phi = Self::energy(terms, u, t);
+            if !factor_at_u {
+                // A reused factorisation proposes an update above the tolerance: take it if it
+                // decreases Φ (energy and gradient at the trial point, no Hessian); otherwise
+                // refactorise at u and redo the iteration with the true tangent.
+                let phi0 = match phi {
+                    Some(p) => p,
+                    None => Self::energy(terms, u, t),
+                };
+                for i in 0..n {
+                    self.trial[i] = u[i] + du[i];
+                }
+                let g_saved = self.g.clone();
+                let trial = std::mem::take(&mut self.trial);
+                let phi_trial = self.energy_gradient(terms, &trial, t);
+                self.trial = trial;
+                let rounding = 1e-13 * phi0.abs().max(decrement);
+                if phi_trial.is_finite()
+                    && (phi_trial <= phi0 - 1e-4 * decrement || (phi_trial - phi0).abs() <= rounding)
+                {
+                    u.copy_from_slice(&self.trial);
+                    *lambda = lam;
+                    report.step_lengths.push(1.0);
+                    (phi, k_at_u) = (Some(phi_trial), false);
+                    let r = residual_norm_of(&self.g, &self.rows, lam);
+                    if r > REFACTOR_CONTRACTION * r_prev {
+                        need_factor = true;
+                    }
+                    r_prev = r;
+                } else {
+                    self.g = g_saved;
+                    phi = Some(phi0);
+                    need_factor = true;
+                }
+                continue;
             }
+            // A large update with the true tangent: line search on Φ.
+            let phi0 = match phi {
+                Some(p) => p,
+                None => Self::energy(terms, u, t),
+            };
             let residual = residual_norm_of(&self.g, &self.rows, *lambda);
-            let rounding = 1e-13 * phi.abs().max(decrement);
+            let rounding = 1e-13 * phi0.abs().max(decrement);
             let mut step = 1.0;
-            let mut accepted = false;
+            let mut accepted = None;
             for trial_no in 0..40 {
                 for i in 0..n {
                     self.trial[i] = u[i] + step * du[i];
@@ -236,28 +355,28 @@ impl Solver {
                     p
                 };
                 if phi_trial.is_finite()
-                    && (phi_trial <= phi - 1e-4 * step * decrement || (phi_trial - phi).abs() <= rounding)
+                    && (phi_trial <= phi0 - 1e-4 * step * decrement || (phi_trial - phi0).abs() <= rounding)
                 {
                     if trial_no > 0 {
                         let trial = std::mem::take(&mut self.trial);
                         self.assemble(pattern, terms, &trial, t);
                         self.trial = trial;
                     }
-                    phi = phi_trial;
-                    accepted = true;
+                    accepted = Some(phi_trial);
                     break;
                 }
                 step *= 0.5;
             }
-            if !accepted {
+            let Some(phi_new) = accepted else {
                 return Err(NewtonError::LineSearch { iteration, residual });
-            }
+            };
             u.copy_from_slice(&self.trial);
             for (l, ln) in lambda.iter_mut().zip(lam) {
                 *l += step * (ln - *l);
             }
             report.step_lengths.push(step);
-            fresh_tangent = true;
+            (phi, k_at_u, factor_at_u, need_factor) = (Some(phi_new), true, false, true);
+            r_prev = residual_norm_of(&self.g, &self.rows, *lambda);
         }
         let last = report.decrements.last().copied().unwrap_or(f64::NAN);
         let residual = residual_norm_of(&self.g, &self.rows, *lambda);

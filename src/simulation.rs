@@ -325,14 +325,20 @@ pub struct Simulation {
     pub lambda: [f64; 2],
     /// Steps done.
     pub step: usize,
-    /// Newton iterations so far.
+    /// Newton iterations (linear solves) so far.
     pub total_iterations: usize,
+    /// Numeric factorisations so far.
+    pub total_factorizations: usize,
     /// Cut-backs so far.
     pub cutbacks: usize,
     /// Work of the external loads of the extra terms (the torque) since the start \[J\].
     pub torque_work: f64,
     unwrap: Unwrap,
     scratch: Vec<f64>,
+    /// `(t, α)` at the start of the previous (sub)step, for the predictor's `α̇`.
+    previous_alpha: Option<(f64, f64)>,
+    /// `(ω, α)` of the current state, once computed.
+    rates: Option<(f64, f64)>,
 }
 
 impl Simulation {
@@ -346,10 +352,13 @@ impl Simulation {
             lambda: [0.0; 2],
             step: 0,
             total_iterations: 0,
+            total_factorizations: 0,
             cutbacks: 0,
             torque_work: 0.0,
             unwrap: Unwrap::default(),
             scratch: Vec::new(),
+            previous_alpha: None,
+            rates: None,
             model,
         };
         // The multipliers of the initial state from the balance of linear momentum:
@@ -393,9 +402,13 @@ impl Simulation {
             .fold(1e-12f64, |a, b| a.max(b.abs()));
         let settings = NewtonSettings {
             tolerance: m.config.solver.tolerance,
-            max_iterations: m.config.solver.max_iterations,
+            // a static problem, not a time step: at least 20 iterations whatever solver.max_iterations
+            max_iterations: m.config.solver.max_iterations.max(20),
             residual_tolerance: RESIDUAL_TOLERANCE,
             load_scale,
+            frame_angle: m.projection.angle(&self.state.u),
+            matrix_key: -1.0,
+            reuse: false,
         };
         let mut u = self.state.u.clone();
         let mut lambda = self.lambda;
@@ -427,6 +440,7 @@ impl Simulation {
         }
         self.state.u = u;
         self.lambda = lambda;
+        self.rates = None;
         Ok(())
     }
 
@@ -442,16 +456,11 @@ impl Simulation {
 
     /// Post-processes the current state into a CSV record.
     pub fn record(&mut self, newton_iterations: usize) -> StepRecord {
+        let theta = self.unwrap.next(self.model.projection.angle(&self.state.u));
+        let (omega, alpha) = self.angular_rates();
         let m = &self.model;
         let s = &self.state;
-        let theta = self.unwrap.next(m.projection.angle(&s.u));
-        let x = m.positions(&s.u);
-        let mut mx = vec![0.0; x.len()];
-        m.pattern.sym_matvec(&m.mass.values, &x, &mut mx);
-        let polar: f64 = x.iter().zip(&mx).map(|(a, b)| a * b).sum();
-        let omega = moment_of(&m.pattern, &m.mass, &x, &s.v, &mut self.scratch) / polar;
-        let alpha = moment_of(&m.pattern, &m.mass, &x, &s.a, &mut self.scratch) / polar;
-        let mut mv = vec![0.0; x.len()];
+        let mut mv = vec![0.0; s.v.len()];
         m.pattern.sym_matvec(&m.mass.values, &s.v, &mut mv);
         let kinetic = 0.5 * s.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
         let strain = m.elastic.energy(&s.u, s.t);
@@ -508,6 +517,9 @@ impl Simulation {
 
     /// Best-fit angular velocity and acceleration of the current state \[rad/s, rad/s²\].
     pub fn angular_rates(&mut self) -> (f64, f64) {
+        if let Some(r) = self.rates {
+            return r;
+        }
         let m = &self.model;
         let x = m.positions(&self.state.u);
         let mut mx = vec![0.0; x.len()];
@@ -515,17 +527,24 @@ impl Simulation {
         let polar: f64 = x.iter().zip(&mx).map(|(a, b)| a * b).sum();
         let omega = moment_of(&m.pattern, &m.mass, &x, &self.state.v, &mut self.scratch) / polar;
         let alpha = moment_of(&m.pattern, &m.mass, &x, &self.state.a, &mut self.scratch) / polar;
+        self.rates = Some((omega, alpha));
         (omega, alpha)
     }
 
     /// Starting guess of a step: the current configuration rotated rigidly about the pivot by
-    /// `Δφ = ω Δt + ½ α Δt²` (best-fit rates). Extrapolating displacements linearly instead,
+    /// `Δφ = ω Δt + ½ α Δt² + ¼ α̇ Δt³` (best-fit rates; `α̇` from the previous step). Extrapolating displacements linearly instead,
     /// `u + Δt v + ½Δt² a`, stretches a rotating body isotropically by `~ω α Δt³`: for steel a spurious
     /// stress of megapascals whose geometric stiffness can make the tangent indefinite. The rotation
     /// about the pivot keeps the hinge's mean displacement zero (the hinge edge is centred on it).
     fn rotational_guess(&mut self, dt: f64) -> Vec<f64> {
         let (omega, alpha) = self.angular_rates();
-        let phi = omega * dt + 0.5 * alpha * dt * dt;
+        // Newmark-consistent: Δφ = ω Δt + Δt²/4 (α_n + α_{n+1}) with α_{n+1} ≈ α_n + α̇ Δt,
+        // α̇ from the previous step.
+        let jerk = match self.previous_alpha {
+            Some((t_prev, a_prev)) if self.state.t > t_prev => (alpha - a_prev) / (self.state.t - t_prev),
+            _ => 0.0,
+        };
+        let phi = omega * dt + 0.5 * alpha * dt * dt + 0.25 * jerk * dt * dt * dt;
         let (s, c) = phi.sin_cos();
         let u = &self.state.u;
         let mut guess = vec![0.0; u.len()];
@@ -559,24 +578,25 @@ impl Simulation {
             max_iterations: m.config.solver.max_iterations,
             residual_tolerance: RESIDUAL_TOLERANCE,
             load_scale,
+            frame_angle: m.projection.angle(&u),
+            matrix_key: m.newmark.inertia_factor(dt),
+            reuse: true,
         };
         let report = self
             .solver
             .minimize(&m.pattern, &terms, t_new, &mut u, &mut lambda, &settings)?;
-        if std::env::var_os("PENDULUM_DEBUG").is_some() {
-            eprintln!(
-                "t = {t_new:.5}: decrements {:?} steps {:?}",
-                report.decrements, report.step_lengths
-            );
-        }
         let new_state = m.newmark.correct(dt, &self.state, u);
+        self.total_factorizations += report.factorizations;
         Ok((new_state, lambda, report.iterations))
     }
 
     /// Advances by `dt`, halving on failure; returns the Newton iterations used.
     fn advance_by(&mut self, dt: f64, depth: usize) -> Result<usize, (NewtonError, f64)> {
+        let start = (self.state.t, self.angular_rates().1);
         match self.try_step(dt) {
             Ok((state, lambda, its)) => {
+                self.previous_alpha = Some(start);
+                self.rates = None;
                 let old = &self.state;
                 self.torque_work += self
                     .model
@@ -589,9 +609,6 @@ impl Simulation {
                 Ok(its)
             }
             Err(e) if depth < self.model.config.solver.max_cutbacks => {
-                if std::env::var_os("PENDULUM_DEBUG").is_some() {
-                    eprintln!("cut-back at t = {} dt = {dt}: {e}", self.state.t);
-                }
                 self.cutbacks += 1;
                 let a = self.advance_by(0.5 * dt, depth + 1)?;
                 let b = self.advance_by(0.5 * dt, depth + 1)?;

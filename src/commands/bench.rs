@@ -5,12 +5,14 @@
 //!   NGSolve tutorial script (`shared/anchors/ngsolve_tutorial.py --post 1 --energy 0`) is run in the
 //!   same session and the ratio of wall times is printed.
 //! * `scaling`: time per step at about 5k, 20k, 80k and 320k unknowns (all mesh sizes scaled).
+//! * `mesh`: the tutorial mesh (best of 10) and a mesh of about `--triangles` triangles.
 //! * `memory`: resident memory after 100 and after 1000 steps (streaming output must keep it flat).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::commands::run::{run_with, RunOptions, RunSummary};
+use crate::mesh::bench::scaled_config;
 use crate::simulation::Simulation;
 use crate::{mesh, Config, Error};
 
@@ -67,7 +69,10 @@ pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, an
         "best of {repeats}: {:.3} s for {} steps, {} unknowns",
         s.seconds_total, s.steps, s.unknowns
     );
-    println!("per Newton iteration ({} iterations):", s.newton_iterations);
+    println!(
+        "per Newton iteration ({} iterations, {} factorisations):",
+        s.newton_iterations, s.factorizations
+    );
     println!(
         "  assembly (energy, gradient, tangent) {:.3} ms",
         1e3 * t.assembly / its
@@ -108,19 +113,6 @@ pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, an
     Ok(())
 }
 
-/// The configuration with every mesh size multiplied by `factor`.
-pub fn scaled_mesh(cfg: &Config, factor: f64) -> Config {
-    let mut c = cfg.clone();
-    let s = cfg.mesh_sizes();
-    c.mesh.max_size = s.max_size * factor;
-    c.mesh.rod_size = Some(s.rod * factor);
-    c.mesh.head_size = Some(s.head * factor);
-    c.mesh.hinge_edge_size = Some(s.hinge_edge * factor);
-    c.mesh.hinge_corner_size = Some(s.hinge_corner * factor);
-    c.mesh.circle_edge_size = Some(s.circle_edge * factor);
-    c
-}
-
 /// `bench scaling`: time per step for meshes of about 5k, 20k, 80k, 320k unknowns.
 pub fn bench_scaling(cfg: &Config, steps: usize, largest_factor: usize) -> Result<(), Error> {
     println!(
@@ -130,7 +122,7 @@ pub fn bench_scaling(cfg: &Config, steps: usize, largest_factor: usize) -> Resul
     let mut previous: Option<(usize, f64)> = None;
     let mut f = 1usize;
     while f <= largest_factor {
-        let c = scaled_mesh(cfg, 1.0 / f as f64);
+        let c = scaled_config(cfg, 1.0 / f as f64);
         let t0 = Instant::now();
         let m = mesh::generate(&c)?;
         let t_mesh = t0.elapsed().as_secs_f64();

@@ -71,7 +71,7 @@ impl MeshReport {
         s.push_str(&format!("{:<22}{:>14}\n", "vertices", self.vertices));
         s.push_str(&format!("{:<22}{:>14}\n", "nodes", self.nodes));
         s.push_str(&format!("{:<22}{:>14.2}\n", "minimum angle [deg]", self.min_angle_deg));
-        s.push_str(&format!("{:<22}{:>14.8e}\n", "area [m^2]", self.area_m2));
+        s.push_str(&format!("{:<22}{:>16.10e}\n", "area [m^2]", self.area_m2));
         for (name, count) in &self.boundaries {
             s.push_str(&format!("{:<22}{:>14}\n", format!("edges \"{name}\""), count));
         }

@@ -4,7 +4,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::io::csv::CsvWriter;
+use crate::io::{prepare_output_dir, FrameWriters};
 use crate::post::PeriodEstimator;
+use crate::progress::{Progress, ProgressMode};
 use crate::simulation::{Simulation, StepRecord};
 use crate::{mesh, Config, Error};
 
@@ -38,6 +40,8 @@ pub struct RunSummary {
     pub steps: usize,
     /// Newton iterations (linear solves) over all steps.
     pub newton_iterations: usize,
+    /// Numeric factorisations over the run.
+    pub factorizations: usize,
     /// Step cut-backs.
     pub cutbacks: usize,
     /// Final proxy angle \[rad\].
@@ -58,6 +62,9 @@ pub struct RunSummary {
     pub seconds_steps: f64,
     /// Wall time in total \[s\].
     pub seconds_total: f64,
+    /// Wall time spent building frames and writing ParaView files, animations, plots and the
+    /// viewer (included in `seconds_steps` and `seconds_total`) \[s\].
+    pub seconds_outputs: f64,
     /// Solver timings.
     pub timings: crate::newton::Timings,
 }
@@ -82,11 +89,29 @@ pub fn csv_values(r: &StepRecord) -> Vec<f64> {
     ]
 }
 
-/// Runs the simulation described by `opts`, calling `observe` after every record (step 0
-/// included) with the simulation and the record.
+/// The main job: prepares the output folder (before computing anything), then runs with every
+/// output the configuration asks for.
+pub fn run(opts: &RunOptions) -> Result<RunSummary, Error> {
+    let out_dir = prepare_output_dir(&opts.config.output.dir, opts.out.as_deref(), opts.force)?;
+    run_with_outputs(opts, out_dir, true, |_, _| Ok(()))
+}
+
+/// Runs the simulation described by `opts` writing only `results.csv`, calling `observe` after
+/// every record (step 0 included) with the simulation and the record.
 pub fn run_with(
     opts: &RunOptions,
     out_dir: PathBuf,
+    observe: impl FnMut(&Simulation, &StepRecord) -> Result<(), Error>,
+) -> Result<RunSummary, Error> {
+    run_with_outputs(opts, out_dir, false, observe)
+}
+
+/// Runs the simulation into `out_dir`; with `frames` also the ParaView files, animations, plots
+/// and the viewer (as `output.*` selects).
+pub fn run_with_outputs(
+    opts: &RunOptions,
+    out_dir: PathBuf,
+    frames: bool,
     mut observe: impl FnMut(&Simulation, &StepRecord) -> Result<(), Error>,
 ) -> Result<RunSummary, Error> {
     let start = Instant::now();
@@ -107,13 +132,36 @@ pub fn run_with(
         theta_range: (f64::INFINITY, f64::NEG_INFINITY),
         ..Default::default()
     };
+    let o = &cfg.output;
+    let wants_frames = frames && (o.paraview || o.animation || o.viewer);
+    let mut writers = match frames {
+        true => Some(FrameWriters::new(&out_dir, &sim.model.mesh, o, None)?),
+        false => None,
+    };
+    let mode = if opts.quiet {
+        ProgressMode::Quiet
+    } else {
+        ProgressMode::detect(false)
+    };
+    let mut progress = Progress::new(cfg.time.steps(), mode);
+    let every = cfg.output.every;
+    let mut seconds_outputs = 0.0;
     let mut period = PeriodEstimator::default();
     let (mut e0, mut kin_max, mut drift) = (None, 0.0f64, 0.0f64);
     let steps = cfg.time.steps();
     let mut record = sim.record(0);
     loop {
         csv.row(&csv_values(&record))?;
+        if let Some(w) = writers.as_mut() {
+            if wants_frames && record.step.is_multiple_of(every) {
+                let t_out = Instant::now();
+                let data = sim.frame_data(record.theta);
+                w.frame(&data.as_frame())?;
+                seconds_outputs += t_out.elapsed().as_secs_f64();
+            }
+        }
         observe(&sim, &record)?;
+        progress.update(record.step, record.time, sim.total_iterations);
         period.push(record.time, record.theta);
         summary.theta_range.0 = summary.theta_range.0.min(record.theta);
         summary.theta_range.1 = summary.theta_range.1.max(record.theta);
@@ -128,8 +176,16 @@ pub fn run_with(
         record = sim.advance()?;
     }
     summary.files.push(csv.finish()?);
+    progress.finish();
+    if let Some(w) = writers {
+        let t_out = Instant::now();
+        summary.files.extend(w.finish()?);
+        seconds_outputs += t_out.elapsed().as_secs_f64();
+    }
+    summary.seconds_outputs = seconds_outputs;
     summary.steps = sim.step;
     summary.newton_iterations = sim.total_iterations;
+    summary.factorizations = sim.total_factorizations;
     summary.cutbacks = sim.cutbacks;
     summary.period = period.period();
     summary.energy_drift = if kin_max > 0.0 { drift / kin_max } else { 0.0 };

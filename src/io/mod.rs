@@ -1,9 +1,20 @@
 //! Writers and readers: VTU/PVD for ParaView, Gmsh `.msh`, CSV, plots, animations, the HTML viewer.
 
+pub mod anim;
 pub mod csv;
+mod font;
 pub mod gmsh;
+pub mod outdir;
+pub mod plot;
+pub mod pvd;
+mod raster;
+pub mod viewer;
 pub mod vtm;
 pub mod vtu;
+pub mod writers;
+
+pub use outdir::prepare_output_dir;
+pub use writers::FrameWriters;
 
 /// Values of one field at every mesh node (vertices and mid-edge nodes).
 #[derive(Clone, Copy, Debug)]
@@ -45,4 +56,41 @@ pub struct Frame<'a> {
     pub von_mises: &'a [f64],
     /// Cauchy stress `[σxx, σyy, σxy]` \[Pa\].
     pub cauchy: &'a [[f64; 3]],
+}
+
+/// Standard base64 (RFC 4648, with padding).
+pub(crate) fn base64(bytes: &[u8]) -> String {
+    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for c in bytes.chunks(3) {
+        let n = (c[0] as u32) << 16 | (*c.get(1).unwrap_or(&0) as u32) << 8 | *c.get(2).unwrap_or(&0) as u32;
+        out.push(A[(n >> 18) as usize & 63] as char);
+        out.push(A[(n >> 12) as usize & 63] as char);
+        out.push(if c.len() > 1 {
+            A[(n >> 6) as usize & 63] as char
+        } else {
+            '='
+        });
+        out.push(if c.len() > 2 { A[n as usize & 63] as char } else { '=' });
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::base64;
+
+    #[test]
+    fn base64_matches_rfc4648_vectors() {
+        for (i, o) in [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("foobar", "Zm9vYmFy"),
+        ] {
+            assert_eq!(base64(i.as_bytes()), o);
+        }
+    }
 }

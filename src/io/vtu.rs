@@ -1,6 +1,8 @@
 //! VTK XML unstructured grids (`.vtu`) for ParaView and meshio.
 //!
-//! ASCII format, points in 3-D with `z = 0`. Six-node triangles are written as
+//! Inline binary format (`format="binary"`: base64 of a UInt64 byte count followed by the
+//! little-endian values, uncompressed), which ParaView, VTK and meshio read; points in 3-D with
+//! `z = 0`. Six-node triangles are written as
 //! `VTK_QUADRATIC_TRIANGLE` (type 22), whose node order (three corners, then the mid-edge nodes of
 //! the edges 0→1, 1→2, 2→0) is exactly ours; three-node edges as `VTK_QUADRATIC_EDGE` (type 21,
 //! corners first, then the mid node). Files are written to a temporary name and renamed into place,
@@ -77,6 +79,25 @@ pub fn write_mesh_vtu(
     write_vtu(path, &mesh.nodes, cells, point_data, cell_data)
 }
 
+/// Base64 of the VTK inline binary block: UInt64 byte count, then the raw little-endian values.
+fn binary_block<T: Copy>(values: impl Iterator<Item = T>, to_bytes: impl Fn(T) -> [u8; 8]) -> String {
+    let mut bytes = vec![0u8; 8];
+    for v in values {
+        bytes.extend_from_slice(&to_bytes(v));
+    }
+    let len = (bytes.len() - 8) as u64;
+    bytes[..8].copy_from_slice(&len.to_le_bytes());
+    super::base64(&bytes)
+}
+
+fn f64_block(values: impl Iterator<Item = f64>) -> String {
+    binary_block(values, f64::to_le_bytes)
+}
+
+fn i64_block(values: impl Iterator<Item = usize>) -> String {
+    binary_block(values, |v| (v as i64).to_le_bytes())
+}
+
 fn write_vtu_to(
     w: &mut dyn Write,
     points: &[[f64; 2]],
@@ -98,27 +119,25 @@ fn write_vtu_to(
         n_cells
     )?;
     writeln!(w, "<Points>")?;
-    writeln!(w, r#"<DataArray type="Float64" NumberOfComponents="3" format="ascii">"#)?;
-    for p in points {
-        writeln!(w, "{:e} {:e} 0", p[0], p[1])?;
-    }
+    writeln!(
+        w,
+        r#"<DataArray type="Float64" NumberOfComponents="3" format="binary">"#
+    )?;
+    writeln!(w, "{}", f64_block(points.iter().flat_map(|p| [p[0], p[1], 0.0])))?;
     writeln!(w, "</DataArray>\n</Points>")?;
     writeln!(w, "<Cells>")?;
-    writeln!(w, r#"<DataArray type="Int64" Name="connectivity" format="ascii">"#)?;
-    for c in cells.connectivity.chunks(cells.nodes_per_cell) {
-        let line: Vec<String> = c.iter().map(|i| i.to_string()).collect();
-        writeln!(w, "{}", line.join(" "))?;
-    }
+    writeln!(w, r#"<DataArray type="Int64" Name="connectivity" format="binary">"#)?;
+    writeln!(w, "{}", i64_block(cells.connectivity.iter().copied()))?;
     writeln!(w, "</DataArray>")?;
-    writeln!(w, r#"<DataArray type="Int64" Name="offsets" format="ascii">"#)?;
-    for i in 1..=n_cells {
-        writeln!(w, "{}", i * cells.nodes_per_cell)?;
-    }
+    writeln!(w, r#"<DataArray type="Int64" Name="offsets" format="binary">"#)?;
+    writeln!(w, "{}", i64_block((1..=n_cells).map(|i| i * cells.nodes_per_cell)))?;
     writeln!(w, "</DataArray>")?;
-    writeln!(w, r#"<DataArray type="UInt8" Name="types" format="ascii">"#)?;
-    for _ in 0..n_cells {
-        writeln!(w, "{}", cells.vtk_type)?;
-    }
+    // types are one byte each: their own block
+    let mut types = vec![0u8; 8];
+    types.extend(std::iter::repeat_n(cells.vtk_type, n_cells));
+    types[..8].copy_from_slice(&(n_cells as u64).to_le_bytes());
+    writeln!(w, r#"<DataArray type="UInt8" Name="types" format="binary">"#)?;
+    writeln!(w, "{}", super::base64(&types))?;
     writeln!(w, "</DataArray>\n</Cells>")?;
     if !point_data.is_empty() {
         writeln!(w, "<PointData>")?;
@@ -139,35 +158,21 @@ fn write_vtu_to(
 }
 
 fn write_field(w: &mut dyn Write, f: &Field<'_>) -> std::io::Result<()> {
-    match f.data {
-        FieldData::Scalar(v) => {
-            writeln!(w, r#"<DataArray type="Float64" Name="{}" format="ascii">"#, f.name)?;
-            for x in v {
-                writeln!(w, "{x:e}")?;
-            }
-        }
-        FieldData::Vector(v) => {
-            // 3 components so ParaView can "Warp By Vector" directly.
-            writeln!(
-                w,
-                r#"<DataArray type="Float64" Name="{}" NumberOfComponents="3" format="ascii">"#,
-                f.name
-            )?;
-            for x in v {
-                writeln!(w, "{:e} {:e} 0", x[0], x[1])?;
-            }
-        }
-        FieldData::Tensor(v) => {
-            // Full 3×3 (row-major), the layout ParaView shows as a tensor; zz = xz = yz = 0.
-            writeln!(
-                w,
-                r#"<DataArray type="Float64" Name="{}" NumberOfComponents="9" format="ascii">"#,
-                f.name
-            )?;
-            for s in v {
-                writeln!(w, "{:e} {:e} 0 {:e} {:e} 0 0 0 0", s[0], s[2], s[2], s[1])?;
-            }
-        }
-    }
+    let (components, block) = match f.data {
+        FieldData::Scalar(v) => (1, f64_block(v.iter().copied())),
+        // 3 components so ParaView can "Warp By Vector" directly.
+        FieldData::Vector(v) => (3, f64_block(v.iter().flat_map(|x| [x[0], x[1], 0.0]))),
+        // Full 3×3 (row-major), the layout ParaView shows as a tensor; zz = xz = yz = 0.
+        FieldData::Tensor(v) => (
+            9,
+            f64_block(v.iter().flat_map(|s| [s[0], s[2], 0.0, s[2], s[1], 0.0, 0.0, 0.0, 0.0])),
+        ),
+    };
+    writeln!(
+        w,
+        r#"<DataArray type="Float64" Name="{}" NumberOfComponents="{components}" format="binary">"#,
+        f.name
+    )?;
+    writeln!(w, "{block}")?;
     writeln!(w, "</DataArray>")
 }

@@ -10,6 +10,10 @@
 //! Boundary edges carry the index of their name in [`Mesh::boundary_names`] ("rotation" for the
 //! hinge edge, "contact_head" for the outer head circle, "default" for the rest). The whole domain
 //! is one region, [`Mesh::region_name`] ("pendulum").
+//!
+//! Submodules: [`mod@generate`] (the pipeline and its guarantees), [`size`] (the graded size field),
+//! `refine` (Delaunay refinement with curved boundary splits), `measure` (area, moments,
+//! Jacobians and angles as methods of [`Mesh`]), [`mod@bench`] (timings).
 
 pub mod bench;
 pub mod generate;

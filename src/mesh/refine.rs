@@ -229,21 +229,27 @@ impl<'a> Refiner<'a> {
         self.faces.push_back((f, t));
     }
 
-    /// Refines until no segment is encroached and no inside triangle is bad.
-    pub fn run(&mut self) -> Result<(), Error> {
+    /// Refines until no segment is encroached and no inside triangle is bad; returns the final
+    /// inside flag per face index.
+    pub fn run(&mut self) -> Result<Vec<bool>, Error> {
         for _pass in 0..20 {
             let before = self.cdt.num_vertices();
             let inside = self.classify();
             self.seg_queue = (0..self.segs.len() as u32)
                 .filter(|&i| self.segs[i as usize].alive)
                 .collect();
-            let faces: Vec<_> = self.cdt.fixed_inner_faces().filter(|f| inside[f.index()]).collect();
-            for f in faces {
+            let bad: Vec<_> = self
+                .cdt
+                .fixed_inner_faces()
+                .filter(|f| inside[f.index()] && self.assess(*f).is_some())
+                .collect();
+            for f in bad {
                 self.push_face(f);
             }
             self.process()?;
             if self.cdt.num_vertices() == before {
-                return Ok(());
+                // Nothing changed in this pass, so the classification is still current.
+                return Ok(inside);
             }
         }
         Err(Error::Mesh("Delaunay refinement did not settle after 20 passes".into()))
@@ -269,25 +275,9 @@ impl<'a> Refiner<'a> {
             if self.triple(f) != tri {
                 continue;
             }
-            let face = self.cdt.face(f);
-            let [a, b, c] = face.positions();
-            let (la, lb, lc) = (d2(b, c).sqrt(), d2(c, a).sqrt(), d2(a, b).sqrt());
-            let area2 = orient(a, b, c);
-            let (short, l1, l2) = if la <= lb && la <= lc {
-                (la, lb, lc)
-            } else if lb <= lc {
-                (lb, lc, la)
-            } else {
-                (lc, la, lb)
-            };
-            let longest = la.max(lb).max(lc);
-            let centroid = Point2::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0);
-            let skinny = area2 < self.sin_min * l1 * l2;
-            let big = longest > self.size_factor * self.size.at([centroid.x, centroid.y]);
-            if !(skinny || big) || short < self.min_seg_len {
+            let Some((centroid, cc)) = self.assess(f) else {
                 continue;
-            }
-            let cc = circumcenter(a, b, c);
+            };
             if let Some(s) = self.encroached_by(cc) {
                 self.split(s)?;
                 self.faces.push_back((f, tri));
@@ -324,6 +314,25 @@ impl<'a> Refiner<'a> {
                 }
             }
         }
+    }
+
+    /// For a bad triangle (too skinny or too big, and not tiny), its centroid and circumcentre.
+    fn assess(&self, f: FixedFaceHandle<InnerTag>) -> Option<(Point2<f64>, Point2<f64>)> {
+        let [a, b, c] = self.cdt.face(f).positions();
+        let (la, lb, lc) = (d2(b, c).sqrt(), d2(c, a).sqrt(), d2(a, b).sqrt());
+        let area2 = orient(a, b, c);
+        let (short, l1, l2) = if la <= lb && la <= lc {
+            (la, lb, lc)
+        } else if lb <= lc {
+            (lb, lc, la)
+        } else {
+            (lc, la, lb)
+        };
+        let longest = la.max(lb).max(lc);
+        let centroid = Point2::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0);
+        let skinny = area2 < self.sin_min * l1 * l2;
+        let bad = skinny || longest > self.size_factor * self.size.at([centroid.x, centroid.y]);
+        (bad && short >= self.min_seg_len).then(|| (centroid, circumcenter(a, b, c)))
     }
 
     fn is_encroached(&self, s: u32) -> bool {

@@ -53,7 +53,7 @@ impl SizeField {
         }
         for (q, s) in &self.corners {
             if *s < h {
-                h = h.min(s + g * (p[0] - q[0]).hypot(p[1] - q[1]));
+                h = h.min(s + g * ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt());
             }
         }
         h

@@ -109,6 +109,51 @@ impl Elastic {
         out
     }
 
+    /// Energy and gradient of one element (no tangent).
+    fn element_gradient(&self, e: usize, u: &[f64]) -> (f64, [f64; 12]) {
+        let nq = self.cache.points_per_element;
+        let (mut energy, mut g) = (0.0, [0.0; 12]);
+        for q in 0..nq {
+            let grads = &self.cache.grads[e * nq + q];
+            let w = self.cache.weights[e * nq + q];
+            let f = deformation_gradient(&self.triangles[e], grads, u);
+            let (psi, p) = self.material.stress(&f);
+            if !psi.is_finite() {
+                return (f64::INFINITY, g);
+            }
+            energy += w * psi;
+            for (n, gn) in grads.iter().enumerate() {
+                g[2 * n] += w * (p[0] * gn[0] + p[1] * gn[1]);
+                g[2 * n + 1] += w * (p[2] * gn[0] + p[3] * gn[1]);
+            }
+        }
+        (energy, g)
+    }
+
+    /// Energy and gradient of the whole body, `g += ∂Π/∂u`.
+    fn run_gradient(&self, u: &[f64], g: &mut [f64]) -> f64 {
+        let ne = self.triangles.len();
+        let mut energy = 0.0;
+        let mut buffer: Vec<(f64, [f64; 12])> = Vec::new();
+        let mut start = 0;
+        while start < ne {
+            let end = (start + 4 * BLOCK).min(ne);
+            buffer.clear();
+            (start..end)
+                .into_par_iter()
+                .map(|e| self.element_gradient(e, u))
+                .collect_into_vec(&mut buffer);
+            for (i, (psi, ge)) in buffer.iter().enumerate() {
+                energy += psi;
+                for (d, gv) in element_dofs(&self.triangles[start + i]).iter().zip(ge.iter()) {
+                    g[*d] += gv;
+                }
+            }
+            start = end;
+        }
+        energy
+    }
+
     fn run(&self, u: &[f64], mut g: Option<&mut [f64]>, mut values: Option<(&Pattern, &mut [f64])>) -> f64 {
         let want_k = values.is_some();
         let ne = self.triangles.len();
@@ -175,7 +220,11 @@ impl Term for Elastic {
     }
 
     fn add_gradient(&self, u: &[f64], _t: f64, g: &mut [f64]) {
-        self.run(u, Some(g), None);
+        self.run_gradient(u, g);
+    }
+
+    fn energy_gradient(&self, u: &[f64], _t: f64, g: &mut [f64]) -> f64 {
+        self.run_gradient(u, g)
     }
 
     fn add_hessian(&self, u: &[f64], _t: f64, pattern: &Pattern, values: &mut [f64]) {

@@ -91,6 +91,13 @@ impl Term for Inertia<'_> {
         g.iter_mut().zip(&v[..u.len()]).for_each(|(gi, m)| *gi += m);
     }
 
+    fn energy_gradient(&self, u: &[f64], _t: f64, g: &mut [f64]) -> f64 {
+        let v = self.weighted_difference(u);
+        let (md, d) = v.split_at(u.len());
+        g.iter_mut().zip(md).for_each(|(gi, m)| *gi += m);
+        0.5 * md.iter().zip(d).map(|(a, b)| a * b).sum::<f64>()
+    }
+
     fn add_hessian(&self, _u: &[f64], _t: f64, _pattern: &Pattern, values: &mut [f64]) {
         values
             .iter_mut()

@@ -36,6 +36,12 @@ pub trait Term: Send + Sync {
     /// `K += ∂²Π/∂u²` into the upper-triangle `values` of `pattern`.
     fn add_hessian(&self, u: &[f64], t: f64, pattern: &Pattern, values: &mut [f64]);
 
+    /// Energy and gradient in one pass (`g += ∂Π/∂u`; returns `Π`).
+    fn energy_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) -> f64 {
+        self.add_gradient(u, t, g);
+        self.energy(u, t)
+    }
+
     /// Energy, gradient and Hessian in one pass (terms override this when fusing saves work).
     fn assemble(&self, u: &[f64], t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
         self.add_gradient(u, t, g);

@@ -1,0 +1,120 @@
+//! Where a run writes: a fresh numbered folder per run, or one the user names.
+//!
+//! - Without an explicit folder, every run gets `BASE/run-NNNN` with the next free number (one more
+//!   than the largest existing `run-*`), created with `create_dir` and retried on a collision, so
+//!   two runs started at once never share a folder. `BASE/latest` then points at it: a relative
+//!   symbolic link on Unix, replaced atomically (link under a temporary name, then rename); where
+//!   links cannot be made, `BASE/latest.txt` holds the folder name instead.
+//! - An explicit folder (`--out`) is used as it is; if it exists and holds anything, the run is
+//!   refused unless `force` is set, and the refusal changes nothing on disk. Call
+//!   [`prepare_output_dir`] before any computing, so a refused run costs nothing.
+
+use std::path::{Path, PathBuf};
+
+use crate::Error;
+
+/// Prefix of the numbered run folders.
+pub const RUN_PREFIX: &str = "run-";
+/// Name of the pointer to the newest run folder.
+pub const LATEST: &str = "latest";
+
+/// Returns the folder this run writes to, created and empty (unless `force` let an explicit,
+/// non-empty one through). See the module documentation for the rules.
+pub fn prepare_output_dir(base: &Path, explicit: Option<&Path>, force: bool) -> Result<PathBuf, Error> {
+    match explicit {
+        Some(dir) => prepare_explicit(dir, force),
+        None => {
+            let dir = create_numbered(base)?;
+            update_latest(base, &dir);
+            Ok(dir)
+        }
+    }
+}
+
+fn prepare_explicit(dir: &Path, force: bool) -> Result<PathBuf, Error> {
+    match std::fs::metadata(dir) {
+        Ok(m) if !m.is_dir() => Err(Error::Config(format!(
+            "--out {}: exists and is not a folder; name a folder (new or empty)",
+            dir.display()
+        ))),
+        Ok(_) => {
+            let mut entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
+            if entries.next().is_some() && !force {
+                return Err(Error::Config(format!(
+                    "--out {}: the folder is not empty; refusing to write into it (nothing was changed). \
+                     Pass --force to write there anyway (files of the same names are overwritten), \
+                     or choose another folder",
+                    dir.display()
+                )));
+            }
+            Ok(dir.to_path_buf())
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+            Ok(dir.to_path_buf())
+        }
+        Err(e) => Err(Error::io(dir, e)),
+    }
+}
+
+/// Number of a `run-NNNN` folder name.
+fn run_number(name: &str) -> Option<u64> {
+    name.strip_prefix(RUN_PREFIX)
+        .filter(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))?
+        .parse()
+        .ok()
+}
+
+fn create_numbered(base: &Path) -> Result<PathBuf, Error> {
+    std::fs::create_dir_all(base).map_err(|e| Error::io(base, e))?;
+    let mut next = std::fs::read_dir(base)
+        .map_err(|e| Error::io(base, e))?
+        .filter_map(|e| e.ok())
+        .filter_map(|e| run_number(&e.file_name().to_string_lossy()))
+        .max()
+        .map_or(1, |n| n + 1);
+    for _ in 0..10_000 {
+        let dir = base.join(format!("{RUN_PREFIX}{next:04}"));
+        match std::fs::create_dir(&dir) {
+            Ok(()) => return Ok(dir),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => next += 1,
+            Err(e) => return Err(Error::io(&dir, e)),
+        }
+    }
+    Err(Error::io(
+        base,
+        std::io::Error::other("could not create a fresh run-NNNN folder after 10000 tries"),
+    ))
+}
+
+/// Points `base/latest` at `dir` (best effort: a failure here never fails the run).
+fn update_latest(base: &Path, dir: &Path) {
+    let name = dir.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    #[cfg(unix)]
+    {
+        let tmp = base.join(format!(".{LATEST}.{}.tmp", std::process::id()));
+        let _ = std::fs::remove_file(&tmp);
+        if std::os::unix::fs::symlink(&name, &tmp).is_ok() && std::fs::rename(&tmp, base.join(LATEST)).is_ok() {
+            let _ = std::fs::remove_file(base.join(format!("{LATEST}.txt")));
+            return;
+        }
+        let _ = std::fs::remove_file(&tmp);
+    }
+    let _ = super::vtu::write_atomically(&base.join(format!("{LATEST}.txt")), |w| {
+        writeln!(w, "{}", name.to_string_lossy())
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn run_numbers_parse_only_run_folders() {
+        assert_eq!(run_number("run-0007"), Some(7));
+        assert_eq!(run_number("run-12345"), Some(12345));
+        assert_eq!(run_number("run-"), None);
+        assert_eq!(run_number("run-1a"), None);
+        assert_eq!(run_number("latest"), None);
+    }
+}

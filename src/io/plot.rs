@@ -1,0 +1,336 @@
+//! Time-history plots, read back from the run's `results.csv` at the end of a run (nothing is held
+//! in memory during it):
+//!
+//! - `theta.png`: the rigid-body angle proxy θ(t) in degrees, with dashed lines at ±θ_max, as in
+//!   the tutorial's matplotlib figure (θ_max = |θ(0)|, the release angle, like the tutorial's
+//!   `theta_vals[0]`; when the run starts at θ = 0, the largest |θ| instead).
+//! - `energy.png`: kinetic, strain, gravitational and total energy \[J\] over time. The strain
+//!   energy of a steel pendulum is about a millionth of the others and would lie flat on zero, so
+//!   a second panel shows it alone on its own scale; the figure's caption states the ratio.
+//!
+//! `results.csv` is read by column name (`time_s`, `theta_rad`, `kinetic_J`, `strain_J`,
+//! `gravity_J`, `total_J`); more columns are ignored. Drawing uses plotters' bitmap backend into an
+//! RGB buffer with the shipped font (`font.rs`); the PNG is encoded with the `png` crate and
+//! written atomically.
+
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use super::font;
+use crate::Error;
+
+/// The columns of `results.csv` the plots use, one entry per row.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct History {
+    /// Time \[s\].
+    pub time: Vec<f64>,
+    /// Proxy angle \[rad\].
+    pub theta: Vec<f64>,
+    /// Kinetic energy \[J\].
+    pub kinetic: Vec<f64>,
+    /// Strain energy \[J\].
+    pub strain: Vec<f64>,
+    /// Gravitational potential energy \[J\].
+    pub gravity: Vec<f64>,
+    /// Total energy \[J\].
+    pub total: Vec<f64>,
+}
+
+impl History {
+    /// Reads the columns by name from a `results.csv`; errors name the file and line.
+    pub fn read_csv(path: &Path) -> Result<Self, Error> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        Self::parse_csv(&text).map_err(|m| Error::Input(format!("{}: {m}", path.display())))
+    }
+
+    /// Parses CSV text with a header line (see [`History::read_csv`]).
+    pub fn parse_csv(text: &str) -> Result<Self, String> {
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
+        let (_, header) = lines.next().ok_or("empty file, expected a header line")?;
+        let names: Vec<&str> = header.split(',').map(str::trim).collect();
+        let col = |name: &str| {
+            names
+                .iter()
+                .position(|n| *n == name)
+                .ok_or_else(|| format!("line 1: no column `{name}` in the header"))
+        };
+        let idx = [
+            col("time_s")?,
+            col("theta_rad")?,
+            col("kinetic_J")?,
+            col("strain_J")?,
+            col("gravity_J")?,
+            col("total_J")?,
+        ];
+        let mut h = History::default();
+        for (i, line) in lines {
+            let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+            let mut v = [0.0; 6];
+            for (k, &c) in idx.iter().enumerate() {
+                let cell = cells
+                    .get(c)
+                    .ok_or_else(|| format!("line {}: {} cells, expected at least {}", i + 1, cells.len(), c + 1))?;
+                v[k] = cell
+                    .parse()
+                    .map_err(|_| format!("line {}: `{cell}` in column `{}` is not a number", i + 1, names[c]))?;
+            }
+            h.time.push(v[0]);
+            h.theta.push(v[1]);
+            h.kinetic.push(v[2]);
+            h.strain.push(v[3]);
+            h.gravity.push(v[4]);
+            h.total.push(v[5]);
+        }
+        Ok(h)
+    }
+}
+
+const THETA_SIZE: (u32, u32) = (1000, 600);
+const ENERGY_SIZE: (u32, u32) = (1000, 850);
+
+/// Writes `theta.png`.
+pub fn write_theta_png(path: &Path, h: &History) -> Result<(), Error> {
+    render_png(path, THETA_SIZE, |root| draw_theta(root, h))
+}
+
+/// Writes `energy.png`.
+pub fn write_energy_png(path: &Path, h: &History) -> Result<(), Error> {
+    render_png(path, ENERGY_SIZE, |root| draw_energy(root, h))
+}
+
+type Root<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+type DrawResult = Result<(), Box<dyn std::error::Error>>;
+
+fn render_png(path: &Path, size: (u32, u32), draw: impl FnOnce(&Root<'_>) -> DrawResult) -> Result<(), Error> {
+    font::register_for_plotters();
+    let mut buf = vec![255u8; size.0 as usize * size.1 as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| plot_error(path, e))?;
+        draw(&root).map_err(|e| plot_error(path, e))?;
+        root.present().map_err(|e| plot_error(path, e))?;
+    }
+    super::vtu::write_atomically(path, |w| {
+        let mut enc = png::Encoder::new(w, size.0, size.1);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut writer = enc.write_header().map_err(std::io::Error::other)?;
+        writer.write_image_data(&buf).map_err(std::io::Error::other)?;
+        writer.finish().map_err(std::io::Error::other)
+    })
+}
+
+fn plot_error(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::io(path, std::io::Error::other(format!("drawing the plot failed: {e}")))
+}
+
+/// `[lo, hi]` of the values, widened when flat, padded by 5 %.
+fn range_of<'a>(values: impl IntoIterator<Item = &'a f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = values
+        .into_iter()
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| (l.min(v), h.max(v)));
+    if !lo.is_finite() {
+        return (-1.0, 1.0);
+    }
+    if hi - lo <= 1e-12 * lo.abs().max(hi.abs()).max(1e-300) {
+        let d = if lo == 0.0 { 1.0 } else { 0.1 * lo.abs() };
+        lo -= d;
+        hi += d;
+    }
+    let pad = 0.05 * (hi - lo);
+    (lo - pad, hi + pad)
+}
+
+/// Axis label text for a value on an axis spanning `span` (decimals for about five ticks).
+fn axis_label(v: f64, span: f64) -> String {
+    if v.abs() <= 1e-9 * span {
+        "0".into()
+    } else if !(1e-3..1e5).contains(&span) {
+        format!("{v:.2e}")
+    } else {
+        let d = (-(span / 5.0).log10().floor() as i32).clamp(0, 6) as usize;
+        format!("{v:.d$}")
+    }
+}
+
+/// Raises the top of a range by 30 % so the legend sits above the curves.
+fn with_legend_room((lo, hi): (f64, f64)) -> (f64, f64) {
+    (lo, hi + 0.3 * (hi - lo))
+}
+
+fn time_range(h: &History) -> (f64, f64) {
+    let t0 = h.time.first().copied().unwrap_or(0.0);
+    let t1 = h.time.last().copied().unwrap_or(1.0);
+    if t1 > t0 {
+        (t0, t1)
+    } else {
+        (t0, t0 + 1.0)
+    }
+}
+
+fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
+    let deg: Vec<f64> = h.theta.iter().map(|t| t.to_degrees()).collect();
+    let first = deg.first().copied().unwrap_or(0.0).abs();
+    let theta_max = if first > 1e-9 {
+        first
+    } else {
+        deg.iter().fold(0.0f64, |a, v| a.max(v.abs()))
+    };
+    let (t0, t1) = time_range(h);
+    let (lo, hi) = with_legend_room(range_of(deg.iter().chain([theta_max, -theta_max].iter())));
+    let mut chart = ChartBuilder::on(root)
+        .caption("Rigid-body angle proxy θ(t)", ("sans-serif", 26))
+        .margin(16)
+        .x_label_area_size(50)
+        .y_label_area_size(70)
+        .build_cartesian_2d(t0..t1, lo..hi)?;
+    let (xs, ys) = (t1 - t0, hi - lo);
+    chart
+        .configure_mesh()
+        .x_desc("time t [s]")
+        .y_desc("angle θ [deg]")
+        .axis_desc_style(("sans-serif", 18))
+        .label_style(("sans-serif", 15))
+        .x_label_formatter(&|v| axis_label(*v, xs))
+        .y_label_formatter(&|v| axis_label(*v, ys))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .draw()?;
+    let blue = RGBColor(31, 119, 180);
+    let points: Vec<(f64, f64)> = h.time.iter().copied().zip(deg.iter().copied()).collect();
+    chart
+        .draw_series(LineSeries::new(points.iter().copied(), blue.stroke_width(2)))?
+        .label("θ(t), rigid-body angle proxy")
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], blue.stroke_width(2)));
+    if points.len() <= 250 {
+        chart.draw_series(points.iter().map(|&p| Circle::new(p, 3, blue.filled())))?;
+    }
+    for (sign, color, name) in [(1.0, RGBColor(214, 39, 40), "+θ_max"), (-1.0, BLACK, "−θ_max")] {
+        let y = sign * theta_max;
+        chart
+            .draw_series(DashedLineSeries::new([(t0, y), (t1, y)], 10, 6, color.stroke_width(2)))?
+            .label(format!("{name} = {:+.2}°", y))
+            .legend(move |(x, yy)| PathElement::new(vec![(x, yy), (x + 24, yy)], color.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font(("sans-serif", 15))
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(160, 160, 160))
+        .draw()?;
+    Ok(())
+}
+
+fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
+    let peak = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let (k_peak, s_peak) = (peak(&h.kinetic), peak(&h.strain));
+    let ratio = if k_peak > 0.0 {
+        format!("{:.1e}", s_peak / k_peak)
+    } else {
+        "n/a".into()
+    };
+    let root = root.titled("Energy over time", ("sans-serif", 26))?;
+    let note = format!(
+        "Strain energy peaks at {ratio} × the kinetic peak: flat at this scale, so the lower panel shows it on its own scale."
+    );
+    root.draw(&Text::new(
+        note,
+        (20, 0),
+        ("sans-serif", 15).into_font().color(&RGBColor(60, 60, 60)),
+    ))?;
+    let body = root.margin(24, 0, 0, 0);
+    let (upper, lower) = body.split_vertically((ENERGY_SIZE.1 as f64 * 0.56) as u32);
+    let (t0, t1) = time_range(h);
+    let xs = t1 - t0;
+
+    let series: [(&str, &[f64], RGBColor); 4] = [
+        ("kinetic", &h.kinetic, RGBColor(31, 119, 180)),
+        ("gravitational", &h.gravity, RGBColor(44, 160, 44)),
+        ("strain", &h.strain, RGBColor(255, 127, 14)),
+        ("total", &h.total, BLACK),
+    ];
+    let (lo, hi) = with_legend_room(range_of(series.iter().flat_map(|s| s.1.iter())));
+    let ys = hi - lo;
+    let mut chart = ChartBuilder::on(&upper)
+        .margin(14)
+        .x_label_area_size(45)
+        .y_label_area_size(85)
+        .build_cartesian_2d(t0..t1, lo..hi)?;
+    chart
+        .configure_mesh()
+        .x_desc("time t [s]")
+        .y_desc("energy [J]")
+        .axis_desc_style(("sans-serif", 18))
+        .label_style(("sans-serif", 15))
+        .x_label_formatter(&|v| axis_label(*v, xs))
+        .y_label_formatter(&|v| axis_label(*v, ys))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .draw()?;
+    for (name, values, color) in series {
+        chart
+            .draw_series(LineSeries::new(
+                h.time.iter().copied().zip(values.iter().copied()),
+                color.stroke_width(2),
+            ))?
+            .label(name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font(("sans-serif", 15))
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(160, 160, 160))
+        .draw()?;
+
+    let (slo, shi) = range_of(h.strain.iter());
+    let ss = shi - slo;
+    let orange = RGBColor(255, 127, 14);
+    let mut chart = ChartBuilder::on(&lower)
+        .caption("Strain energy alone (own scale)", ("sans-serif", 18))
+        .margin(14)
+        .x_label_area_size(45)
+        .y_label_area_size(85)
+        .build_cartesian_2d(t0..t1, slo..shi)?;
+    chart
+        .configure_mesh()
+        .x_desc("time t [s]")
+        .y_desc("strain energy [J]")
+        .axis_desc_style(("sans-serif", 18))
+        .label_style(("sans-serif", 15))
+        .x_label_formatter(&|v| axis_label(*v, xs))
+        .y_label_formatter(&|v| axis_label(*v, ss))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .draw()?;
+    chart.draw_series(LineSeries::new(
+        h.time.iter().copied().zip(h.strain.iter().copied()),
+        orange.stroke_width(2),
+    ))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_columns_are_found_by_name_and_bad_cells_name_the_line() {
+        let text = "time_s,theta_rad,omega_rad_s,alpha_rad_s2,kinetic_J,strain_J,gravity_J,total_J,extra\n\
+                    0,0.35,0,0,0,0,-1,-1,7\n0.01,0.34,0,0,0.1,1e-7,-1.1,-1,7\n";
+        let h = History::parse_csv(text).unwrap();
+        assert_eq!(h.time, vec![0.0, 0.01]);
+        assert_eq!(h.strain, vec![0.0, 1e-7]);
+        let err = History::parse_csv(&text.replace("0.34", "x")).unwrap_err();
+        assert!(err.contains("line 3"), "{err}");
+        let err = History::parse_csv("time_s,theta_rad\n").unwrap_err();
+        assert!(err.contains("kinetic_J"), "{err}");
+    }
+}

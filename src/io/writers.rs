@@ -1,0 +1,162 @@
+//! One orchestrator for everything a run writes besides `results.csv`: [`FrameWriters`].
+//!
+//! The simulation calls [`FrameWriters::frame`] for every step (step 0 included) and
+//! [`FrameWriters::finish`] once at the end, after `results.csv` is complete. The writers apply
+//! `output.every` themselves (a step is written when `step % every == 0`) and honour the flags:
+//!
+//! | flag        | files                                              | written            |
+//! |-------------|----------------------------------------------------|--------------------|
+//! | `paraview`  | `pendulum.pvd`, `frames/step_NNNNN.vtu`            | as frames arrive   |
+//! | `animation` | `displacement.gif`, `von_mises.gif`                | in `finish`        |
+//! | `viewer`    | `viewer.html`                                      | in `finish`        |
+//! | `plots`     | `theta.png`, `energy.png` (from `results.csv`)     | in `finish`        |
+//!
+//! Call `finish` after `results.csv` is complete and flushed (the plots read it back). A flag that
+//! is off means its files are not written at all. The animations and the viewer share
+//! one bounded set of kept frames ([`KeptFrames`], at most `output.max_frames`), so memory does not
+//! grow with the length of the run.
+//!
+//! ```no_run
+//! # use pendulum_fem::{config::Config, io::{prepare_output_dir, Frame, FrameWriters}, Mesh};
+//! # fn demo(cfg: &Config, mesh: &Mesh, out: Option<&std::path::Path>, frames: &[Frame<'_>]) -> Result<(), pendulum_fem::Error> {
+//! let dir = prepare_output_dir(&cfg.output.dir, out, false)?; // before any computing
+//! let mut writers = FrameWriters::new(&dir, mesh, &cfg.output, None)?;
+//! for frame in frames {
+//!     writers.frame(frame)?; // every step, step 0 included
+//! }
+//! // … finish results.csv …
+//! let written = writers.finish()?;
+//! # Ok(()) }
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use super::anim::{self, AnimField, KeptFrame, KeptFrames, Scene};
+use super::plot::{self, History};
+use super::pvd::PvdWriter;
+use super::{viewer, Frame};
+use crate::config::Output;
+use crate::{Error, Mesh};
+
+/// File names inside the output folder.
+pub mod names {
+    /// The solver's time history (read by the plots).
+    pub const RESULTS_CSV: &str = "results.csv";
+    /// θ(t) plot.
+    pub const THETA_PNG: &str = "theta.png";
+    /// Energy plot.
+    pub const ENERGY_PNG: &str = "energy.png";
+    /// Animation coloured by |u|.
+    pub const DISPLACEMENT_GIF: &str = "displacement.gif";
+    /// Animation coloured by von Mises stress.
+    pub const VON_MISES_GIF: &str = "von_mises.gif";
+    /// The HTML viewer.
+    pub const VIEWER_HTML: &str = "viewer.html";
+}
+
+/// Writes the frame outputs of one run into one folder.
+#[derive(Debug)]
+pub struct FrameWriters {
+    dir: PathBuf,
+    /// A copy of the mesh, so the writers borrow nothing from the simulation.
+    mesh: Mesh,
+    output: Output,
+    wall_x: Option<f64>,
+    pvd: Option<PvdWriter>,
+    kept: Option<KeptFrames>,
+}
+
+impl FrameWriters {
+    /// Prepares writing into `dir` (created if missing; an empty `pendulum.pvd` is written at once
+    /// when ParaView output is on). `wall_x` draws a wall line at that `x` \[m\] in the pictures.
+    pub fn new(dir: &Path, mesh: &Mesh, output: &Output, wall_x: Option<f64>) -> Result<Self, Error> {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        let pvd = if output.paraview {
+            Some(PvdWriter::new(dir)?)
+        } else {
+            None
+        };
+        let kept = (output.animation || output.viewer).then(|| KeptFrames::new(output.max_frames));
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            mesh: mesh.clone(),
+            output: output.clone(),
+            wall_x,
+            pvd,
+            kept,
+        })
+    }
+
+    /// Offers the state after one step (call for every step, including step 0).
+    pub fn frame(&mut self, frame: &Frame<'_>) -> Result<(), Error> {
+        if !frame.step.is_multiple_of(self.output.every.max(1)) {
+            return Ok(());
+        }
+        let n = self.mesh.num_nodes();
+        let lengths = [
+            ("displacement", frame.displacement.len()),
+            ("velocity", frame.velocity.len()),
+            ("acceleration", frame.acceleration.len()),
+            ("von_mises", frame.von_mises.len()),
+            ("cauchy", frame.cauchy.len()),
+        ];
+        if let Some((name, len)) = lengths.iter().find(|(_, len)| *len != n) {
+            return Err(Error::Input(format!(
+                "frame at step {} (t = {} s): {len} `{name}` values for a mesh of {n} nodes",
+                frame.step, frame.time
+            )));
+        }
+        if let Some(pvd) = &mut self.pvd {
+            pvd.write_frame(&self.mesh, frame)?;
+        }
+        if let Some(kept) = &mut self.kept {
+            kept.push(KeptFrame::from_frame(&self.mesh.nodes, frame));
+        }
+        Ok(())
+    }
+
+    /// Writes the end-of-run outputs and returns every path written during the run.
+    /// With `plots` on, `results.csv` must exist in the output folder.
+    pub fn finish(self) -> Result<Vec<PathBuf>, Error> {
+        let mut paths = self.pvd.map(PvdWriter::into_paths).unwrap_or_default();
+        let csv = self.dir.join(names::RESULTS_CSV);
+        let history = (self.output.plots || self.output.viewer).then(|| History::read_csv(&csv));
+        let frames = self.kept.map(KeptFrames::into_frames).unwrap_or_default();
+        if !frames.is_empty() {
+            let scene = Scene::new(&self.mesh.nodes, &frames, self.output.magnification, self.wall_x);
+            if self.output.animation {
+                for (name, field) in [
+                    (names::DISPLACEMENT_GIF, AnimField::Displacement),
+                    (names::VON_MISES_GIF, AnimField::VonMises),
+                ] {
+                    let path = self.dir.join(name);
+                    anim::write_gif(&path, &self.mesh, &frames, field, &scene)?;
+                    paths.push(path);
+                }
+            }
+            if self.output.viewer {
+                let path = self.dir.join(names::VIEWER_HTML);
+                let run = self
+                    .dir
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                // Without a readable results.csv the viewer's θ curve comes from the kept frames.
+                let h = history.as_ref().and_then(|r| r.as_ref().ok());
+                viewer::write_viewer(&path, &self.mesh, &frames, &scene, h, &format!("pendulum-fem: {run}"))?;
+                paths.push(path);
+            }
+        }
+        // Plots last: a missing results.csv is an error, but the pictures above are written anyway.
+        if let (true, Some(history)) = (self.output.plots, history) {
+            let h = history?;
+            let path = self.dir.join(names::THETA_PNG);
+            plot::write_theta_png(&path, &h)?;
+            paths.push(path);
+            let path = self.dir.join(names::ENERGY_PNG);
+            plot::write_energy_png(&path, &h)?;
+            paths.push(path);
+        }
+        Ok(paths)
+    }
+}
