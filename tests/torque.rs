@@ -364,6 +364,40 @@ fn the_rigid_start_accelerates_with_the_delivered_moment() {
     }
 }
 
+#[test]
+fn every_profile_drives_a_run_that_converges_and_balances_energy() {
+    // from rest without gravity: before the step or ramp starts there is no load at all
+    let mesh = common::hanging_rectangle(0.015, 0.3, 2, 10);
+    for kind in [Kind::Constant, Kind::Step, Kind::Ramp, Kind::Sine] {
+        let mut cfg = Config::default();
+        cfg.gravity.g = 0.0;
+        cfg.initial.angle_deg = 0.0;
+        cfg.time.dt = 0.005;
+        cfg.time.end = 0.3;
+        cfg.torque = config::Torque {
+            profile: kind,
+            amplitude: 0.05,
+            start: 0.05,
+            duration: 0.1,
+            frequency: 4.0,
+            phase: 0.0,
+            ..Default::default()
+        };
+        let profile = TorqueProfile::from_config(&cfg.torque).unwrap();
+        let mut sim = Simulation::from_config(&cfg, mesh.clone()).unwrap();
+        let mut records = vec![sim.record(0)];
+        for _ in 0..cfg.time.steps() {
+            records.push(sim.advance().unwrap_or_else(|e| panic!("{kind:?}: {e}")));
+        }
+        for r in &records {
+            assert_eq!(r.torque, profile.value(r.time), "{kind:?} at {}", r.time);
+        }
+        let balance = energy_balance(&records);
+        assert!(balance < 1e-3, "{kind:?}: energy balance {balance}");
+        assert!(sim.cutbacks == 0, "{kind:?}: {} cut-backs", sim.cutbacks);
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Whole runs on the real mesh (release mode)
 
