@@ -14,6 +14,7 @@
 //! degree 8, enough for all three moments. It is private to the mesh module on purpose.
 
 use super::Mesh;
+use crate::element::Tri6;
 use crate::geometry::Point;
 
 const GL5: [(f64, f64); 5] = [
@@ -32,33 +33,6 @@ pub(crate) fn collapsed_rule() -> impl Iterator<Item = ([f64; 2], f64)> {
     })
 }
 
-/// Tri6 shape functions at `(ξ, η)`.
-pub(crate) fn basis([xi, eta]: [f64; 2]) -> [f64; 6] {
-    let l = [1.0 - xi - eta, xi, eta];
-    [
-        l[0] * (2.0 * l[0] - 1.0),
-        l[1] * (2.0 * l[1] - 1.0),
-        l[2] * (2.0 * l[2] - 1.0),
-        4.0 * l[0] * l[1],
-        4.0 * l[1] * l[2],
-        4.0 * l[2] * l[0],
-    ]
-}
-
-/// Tri6 shape-function gradients `∂N/∂(ξ, η)` at `(ξ, η)`.
-pub(crate) fn basis_gradients([xi, eta]: [f64; 2]) -> [[f64; 2]; 6] {
-    let l = [1.0 - xi - eta, xi, eta];
-    let dl = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
-    let corner = |i: usize| [(4.0 * l[i] - 1.0) * dl[i][0], (4.0 * l[i] - 1.0) * dl[i][1]];
-    let edge = |i: usize, j: usize| {
-        [
-            4.0 * (l[i] * dl[j][0] + l[j] * dl[i][0]),
-            4.0 * (l[i] * dl[j][1] + l[j] * dl[i][1]),
-        ]
-    };
-    [corner(0), corner(1), corner(2), edge(0, 1), edge(1, 2), edge(2, 0)]
-}
-
 impl Mesh {
     fn element_nodes(&self, t: usize) -> [Point; 6] {
         self.triangles[t].map(|n| self.nodes[n])
@@ -67,7 +41,7 @@ impl Mesh {
     /// `det J` of element `t` at `(ξ, η)`.
     pub fn jacobian(&self, t: usize, xi: [f64; 2]) -> f64 {
         let x = self.element_nodes(t);
-        let g = basis_gradients(xi);
+        let g = Tri6::basis_gradients(xi);
         let mut j = [[0.0; 2]; 2];
         for a in 0..6 {
             for r in 0..2 {
@@ -90,7 +64,7 @@ impl Mesh {
     /// `∫ f(x) dA` over the curved elements (collapsed Gauss, degree 8), summed with
     /// Kahan compensation.
     pub fn integrate(&self, f: impl Fn(Point) -> f64) -> f64 {
-        let rule: Vec<([f64; 2], f64, [f64; 6])> = collapsed_rule().map(|(p, w)| (p, w, basis(p))).collect();
+        let rule: Vec<([f64; 2], f64, [f64; 6])> = collapsed_rule().map(|(p, w)| (p, w, Tri6::basis(p))).collect();
         let (mut sum, mut comp) = (0.0, 0.0);
         for t in 0..self.triangles.len() {
             let x = self.element_nodes(t);
@@ -175,11 +149,11 @@ mod tests {
     fn tri6_basis_is_nodal_and_a_partition_of_unity() {
         let nodes = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5]];
         for (i, p) in nodes.iter().enumerate() {
-            let n = basis(*p);
+            let n = Tri6::basis(*p);
             for (j, v) in n.iter().enumerate() {
                 assert!((v - if i == j { 1.0 } else { 0.0 }).abs() < 1e-15);
             }
-            let g = basis_gradients(*p);
+            let g = Tri6::basis_gradients(*p);
             let s = g.iter().fold([0.0, 0.0], |acc, d| [acc[0] + d[0], acc[1] + d[1]]);
             assert!(s[0].abs() < 1e-14 && s[1].abs() < 1e-14);
         }
