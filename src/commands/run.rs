@@ -135,7 +135,12 @@ pub fn run_with_outputs(
     let o = &cfg.output;
     let wants_frames = frames && (o.paraview || o.animation || o.viewer);
     let mut writers = match frames {
-        true => Some(FrameWriters::new(&out_dir, &sim.model.mesh, o, None)?),
+        true => Some(FrameWriter::start(FrameWriters::new(
+            &out_dir,
+            &sim.model.mesh,
+            o,
+            None,
+        )?)),
         false => None,
     };
     let mode = if opts.quiet {
@@ -155,8 +160,7 @@ pub fn run_with_outputs(
         if let Some(w) = writers.as_mut() {
             if wants_frames && record.step.is_multiple_of(every) {
                 let t_out = Instant::now();
-                let data = sim.frame_data(record.theta);
-                w.frame(&data.as_frame())?;
+                w.send(sim.frame_data(record.theta))?;
                 seconds_outputs += t_out.elapsed().as_secs_f64();
             }
         }
@@ -195,4 +199,59 @@ pub fn run_with_outputs(
     summary.seconds_steps = t_steps.elapsed().as_secs_f64();
     summary.seconds_total = start.elapsed().as_secs_f64();
     Ok(summary)
+}
+
+/// Frame outputs written on a thread of their own, so that serialising ParaView files and keeping
+/// frames for the pictures overlaps the time stepping. The channel holds at most
+/// [`FRAME_QUEUE`] frames, so memory stays bounded when the writer falls behind.
+struct FrameWriter {
+    sender: Option<std::sync::mpsc::SyncSender<crate::simulation::FrameData>>,
+    handle: Option<std::thread::JoinHandle<Result<FrameWriters, Error>>>,
+}
+
+/// Frames waiting for the writer thread at most.
+const FRAME_QUEUE: usize = 4;
+
+impl FrameWriter {
+    fn start(mut writers: FrameWriters) -> Self {
+        let (sender, receiver) = std::sync::mpsc::sync_channel::<crate::simulation::FrameData>(FRAME_QUEUE);
+        let handle = std::thread::spawn(move || {
+            for data in receiver {
+                writers.frame(&data.as_frame())?;
+            }
+            Ok(writers)
+        });
+        Self {
+            sender: Some(sender),
+            handle: Some(handle),
+        }
+    }
+
+    /// Queues a frame; if the writer thread has stopped with an error, returns that error.
+    fn send(&mut self, data: crate::simulation::FrameData) -> Result<(), Error> {
+        let sent = self.sender.as_ref().map(|s| s.send(data).is_ok()).unwrap_or(false);
+        if sent {
+            return Ok(());
+        }
+        self.sender = None;
+        Err(self.join_error())
+    }
+
+    fn join_error(&mut self) -> Error {
+        match self.handle.take().map(|h| h.join()) {
+            Some(Ok(Err(e))) => e,
+            Some(Err(_)) => Error::Input("the frame writer thread panicked".into()),
+            _ => Error::Input("the frame writer stopped unexpectedly".into()),
+        }
+    }
+
+    /// Waits for the queued frames, then writes the animations, the viewer and the plots.
+    fn finish(mut self) -> Result<Vec<PathBuf>, Error> {
+        drop(self.sender.take());
+        let handle = self.handle.take().ok_or_else(|| self.join_error())?;
+        let writers = handle
+            .join()
+            .map_err(|_| Error::Input("the frame writer thread panicked".into()))??;
+        writers.finish()
+    }
 }
