@@ -93,9 +93,9 @@ struct BenchArgs {
     /// Triangles of the large mesh (`mesh`).
     #[arg(long, default_value_t = 1_000_000)]
     triangles: usize,
-    /// Finest refinement factor (`scaling`): sizes down to 1/N of the default (1, 2, 4, 8 ≈ 5k to 320k unknowns).
-    #[arg(long, default_value_t = 8)]
-    finest: usize,
+    /// Largest problem of `scaling` in unknowns (targets 5k, 20k, 80k, 320k, ... up to this).
+    #[arg(long, default_value_t = 320_000)]
+    largest: usize,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
@@ -115,7 +115,7 @@ fn bench(args: BenchArgs) -> Result<(), Error> {
     let config = load(&args.cfg)?;
     match args.what {
         BenchTarget::Run => bench::bench_run(&config, args.repeats, args.ngsolve.as_deref(), &args.anchor),
-        BenchTarget::Scaling => bench::bench_scaling(&config, args.steps, args.finest),
+        BenchTarget::Scaling => bench::bench_scaling(&config, args.steps, args.largest),
         BenchTarget::Memory => bench::bench_memory(&config, 100, 1000),
         BenchTarget::Mesh => pendulum_fem::mesh::bench::bench_mesh(&config, Some(args.triangles)).map(|_| ()),
     }

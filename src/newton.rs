@@ -35,6 +35,8 @@ pub struct NewtonSettings {
     pub residual_tolerance: f64,
     /// Size of the applied nodal forces (gravity, inertia, torque) \[N\]; see [`NewtonSettings::residual_tolerance`].
     pub load_scale: f64,
+    /// Largest distance of a node from the pivot \[m\], for the rounding floor of the residual check.
+    pub length_scale: f64,
     /// Proxy angle of the starting point \[rad\]: the frame in which a reused factorisation is rotated.
     pub frame_angle: f64,
     /// Identifies the matrix family (the mass factor `1/(βΔt²)`); a change forces a refactorisation.
@@ -84,9 +86,16 @@ pub struct Solver {
     trial: Vec<f64>,
     /// `(proxy angle, matrix key)` of the current factorisation.
     factor_frame: Option<(f64, f64)>,
+    /// Positions of the diagonal entries in the pattern's values.
+    diagonal: Vec<usize>,
+    /// Largest diagonal entry of the last factorised matrix \[N/m\].
+    diagonal_max: f64,
     /// Accumulated timings.
     pub timings: Timings,
 }
+
+/// Multiple of the machine epsilon in the rounding floor of the residual check.
+pub const ROUNDING_FACTOR: f64 = 10.0;
 
 /// A reused factorisation must reduce the residual at least by this factor per iteration.
 pub const REFACTOR_CONTRACTION: f64 = 0.5;
@@ -129,6 +138,10 @@ impl Solver {
             rhs: vec![0.0; 3 * n],
             trial: vec![0.0; n],
             factor_frame: None,
+            diagonal: (0..n)
+                .map(|i| pattern.position(i, i).expect("diagonal in pattern"))
+                .collect(),
+            diagonal_max: 0.0,
             chol,
             timings: Timings::default(),
         })
@@ -153,6 +166,15 @@ impl Solver {
         }
         self.timings.assembly += start.elapsed().as_secs_f64();
         phi
+    }
+
+    /// The residual a converged state must reach: `residual_tolerance × load_scale`, but never
+    /// below the rounding level of the residual itself, `ROUNDING_FACTOR · ε · max diag K · length_scale`
+    /// (internal forces are differences of terms of size `K |x|`; on fine meshes the nodal loads
+    /// shrink like `h²` while that level does not).
+    fn residual_bound(&self, settings: &NewtonSettings) -> f64 {
+        let rounding = ROUNDING_FACTOR * f64::EPSILON * self.diagonal_max * settings.length_scale;
+        (settings.residual_tolerance * settings.load_scale).max(rounding)
     }
 
     /// Energy and gradient (no Hessian) at `u` into `self.g`.
@@ -265,6 +287,7 @@ impl Solver {
                     return Err(NewtonError::SingularTangent { iteration });
                 }
                 self.factor_frame = Some((settings.frame_angle, settings.matrix_key));
+                self.diagonal_max = self.diagonal.iter().fold(0.0f64, |m, &k| m.max(self.k[k].abs()));
                 need_factor = false;
                 factor_at_u = true;
             }
@@ -285,7 +308,7 @@ impl Solver {
                 self.gradient_only(terms, u, t);
                 let r = residual_norm_of(&self.g, &self.rows, lam);
                 report.residual = r;
-                if r <= settings.residual_tolerance * settings.load_scale {
+                if r <= self.residual_bound(settings) {
                     return Ok(report);
                 }
                 if r > REFACTOR_CONTRACTION * r_prev {

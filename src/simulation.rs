@@ -144,6 +144,11 @@ impl Model {
         self.extra_terms.push(term);
     }
 
+    /// Largest distance of a node from the pivot \[m\].
+    pub fn length_scale(&self) -> f64 {
+        self.mesh.nodes.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max)
+    }
+
     /// Mass of the body \[kg\].
     pub fn mass_kg(&self) -> f64 {
         self.config.material.density * self.config.geometry.thickness * self.projection.area
@@ -406,6 +411,7 @@ impl Simulation {
             max_iterations: m.config.solver.max_iterations.max(20),
             residual_tolerance: RESIDUAL_TOLERANCE,
             load_scale,
+            length_scale: m.length_scale(),
             frame_angle: m.projection.angle(&self.state.u),
             matrix_key: -1.0,
             reuse: false,
@@ -427,12 +433,7 @@ impl Simulation {
             let before = u.clone();
             self.solver
                 .minimize(&m.pattern, &terms, 0.0, &mut u, &mut lambda, &settings)
-                .map_err(|source| Error::TimeStep {
-                    step: 0,
-                    t: 0.0,
-                    dt: 0.0,
-                    source,
-                })?;
+                .map_err(|source| Error::InitialEquilibrium { source })?;
             let change = u.iter().zip(&before).fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
             if change < 1e-15 {
                 break;
@@ -585,6 +586,7 @@ impl Simulation {
             max_iterations: m.config.solver.max_iterations,
             residual_tolerance: RESIDUAL_TOLERANCE,
             load_scale,
+            length_scale: m.length_scale(),
             frame_angle: m.projection.angle(&u),
             matrix_key: m.newmark.inertia_factor(dt),
             reuse: true,

@@ -4,7 +4,8 @@
 //!   a breakdown per Newton iteration (assembly, factorisation, solve); with `--ngsolve PYTHON` the
 //!   NGSolve tutorial script (`shared/anchors/ngsolve_tutorial.py --post 1 --energy 0`) is run in the
 //!   same session and the ratio of wall times is printed.
-//! * `scaling`: time per step at about 5k, 20k, 80k and 320k unknowns (all mesh sizes scaled).
+//! * `scaling`: time per step at about 5k, 20k, 80k and 320k unknowns (all mesh sizes scaled by a
+//!   common factor found by probing the mesher).
 //! * `mesh`: the tutorial mesh (best of 10) and a mesh of about `--triangles` triangles.
 //! * `memory`: resident memory after 100 and after 1000 steps (streaming output must keep it flat).
 
@@ -113,16 +114,31 @@ pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, an
     Ok(())
 }
 
-/// `bench scaling`: time per step for meshes of about 5k, 20k, 80k, 320k unknowns.
-pub fn bench_scaling(cfg: &Config, steps: usize, largest_factor: usize) -> Result<(), Error> {
+/// The mesh-size factor whose mesh has about `target` unknowns (probes the mesher, which is cheap:
+/// a graded mesh grows more slowly than `1/factor²`, so the factor is corrected a few times).
+fn factor_for_unknowns(cfg: &Config, target: usize) -> Result<f64, Error> {
+    let mut f = 1.0;
+    for _ in 0..4 {
+        let n = 2 * mesh::generate(&scaled_config(cfg, f))?.num_nodes() + 2;
+        if (n as f64 / target as f64 - 1.0).abs() < 0.05 {
+            break;
+        }
+        f *= (n as f64 / target as f64).powf(0.7);
+    }
+    Ok(f)
+}
+
+/// `bench scaling`: time per step for meshes of about 5k, 20k, 80k, 320k unknowns (up to `largest`).
+pub fn bench_scaling(cfg: &Config, steps: usize, largest: usize) -> Result<(), Error> {
     println!(
         "{:>10} {:>10} {:>12} {:>12} {:>14} {:>12} {:>10}",
-        "factor", "unknowns", "mesh s", "setup s", "ms/step", "its/step", "nnz(L)"
+        "sizes x", "unknowns", "mesh s", "setup s", "ms/step", "its/step", "nnz(L)"
     );
     let mut previous: Option<(usize, f64)> = None;
-    let mut f = 1usize;
-    while f <= largest_factor {
-        let c = scaled_config(cfg, 1.0 / f as f64);
+    let mut target = 5_000;
+    while target <= largest {
+        let f = factor_for_unknowns(cfg, target)?;
+        let c = scaled_config(cfg, f);
         let t0 = Instant::now();
         let m = mesh::generate(&c)?;
         let t_mesh = t0.elapsed().as_secs_f64();
@@ -136,8 +152,8 @@ pub fn bench_scaling(cfg: &Config, steps: usize, largest_factor: usize) -> Resul
         let per_step = t2.elapsed().as_secs_f64() / steps as f64;
         let n = 2 * sim.model.mesh.num_nodes() + 2;
         println!(
-            "{:>10} {:>10} {:>12.3} {:>12.3} {:>14.2} {:>12.2} {:>10}",
-            format!("1/{f}"),
+            "{:>10.3} {:>10} {:>12.3} {:>12.3} {:>14.2} {:>12.2} {:>10}",
+            f,
             n,
             t_mesh,
             t_setup,
@@ -153,7 +169,7 @@ pub fn bench_scaling(cfg: &Config, steps: usize, largest_factor: usize) -> Resul
             );
         }
         previous = Some((n, per_step));
-        f *= 2;
+        target *= 4;
     }
     Ok(())
 }
