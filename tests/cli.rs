@@ -59,7 +59,8 @@ fn out_of_range_values_name_the_key_and_the_allowed_range() {
 fn a_failing_step_names_step_time_and_residual_and_keeps_the_rows_written() {
     let dir = scratch("fail");
     let out = dir.join("out");
-    // one Newton iteration can never pass the residual check, and no cut-back is allowed
+    // an energy tolerance no update can reach, one iteration, no cut-back: step 1 must fail
+    // (undeformed start, so the initial equilibrium solve is not involved)
     let o = bin()
         .args([
             "run",
@@ -68,6 +69,12 @@ fn a_failing_step_names_step_time_and_residual_and_keeps_the_rows_written() {
             "solver.max_iterations=1",
             "--set",
             "solver.max_cutbacks=0",
+        ])
+        .args([
+            "--set",
+            "solver.tolerance=1e-300",
+            "--set",
+            "initial.elastic=undeformed",
             "--out",
         ])
         .arg(&out)
