@@ -8,7 +8,15 @@
 //! ```
 //!
 //! and then `aₙ₊₁ = (u − ũ)/(βΔt²)`, `vₙ₊₁ = ṽ + γΔt aₙ₊₁`. The integrator knows nothing about
-//! elasticity, hinges or contact. The average-acceleration preset (β = ¼, γ = ½) is exactly the
+//! elasticity, hinges or contact.
+//!
+//! **HHT-α** (Hilber, Hughes and Taylor, 1977) weights the forces of the two ends of the step,
+//! `M aₙ₊₁ + (1 + α) ∇Π(uₙ₊₁, tₙ₊₁) − α ∇Π(uₙ, tₙ) = 0` (multipliers likewise), with
+//! `β = (1 − α)²/4`, `γ = ½ − α`, `−⅓ ≤ α ≤ 0`. It is again an incremental potential,
+//! `Φ(u) = 1/(2βΔt²) (u − ũ)ᵀ M (u − ũ) + (1 + α) Π(u, tₙ₊₁) − α ∇Π(uₙ, tₙ)·u`, second order, and
+//! damps the modes that the step does not resolve; `α = 0` is the average-acceleration rule.
+//!
+//! The average-acceleration preset (β = ¼, γ = ½) is exactly the
 //! tutorial's update `v⁺ = 2/Δt (u⁺ − u) − v`, `a⁺ = 2/Δt (v⁺ − v) − a`.
 
 /// Kinematic state at one time: nodal displacement, velocity and acceleration (interleaved).
@@ -42,6 +50,14 @@ impl Newmark {
         beta: 1.0 / 6.0,
         gamma: 0.5,
     };
+
+    /// The Newmark parameters of HHT-α (`β = (1 − α)²/4`, `γ = ½ − α`).
+    pub fn hht(alpha: f64) -> Self {
+        Self {
+            beta: (1.0 - alpha) * (1.0 - alpha) / 4.0,
+            gamma: 0.5 - alpha,
+        }
+    }
 
     /// `ũ = uₙ + Δt vₙ + Δt²(½ − β) aₙ`.
     pub fn predict_u(&self, dt: f64, s: &State) -> Vec<f64> {

@@ -57,3 +57,37 @@ fn average_acceleration_conserves_the_energy_of_a_linear_oscillator() {
     let e = 0.5 * s.v[0] * s.v[0] + 0.5 * 4.0 * s.u[0] * s.u[0];
     assert!((e - 2.0).abs() < 1e-12, "energy {e}");
 }
+
+/// HHT-α on m ü + k u = 0 (m = 1): `u` minimises c/2 (u − ũ)² + (1 + α) k/2 u² − α k uₙ u.
+fn integrate_hht(alpha: f64, k: f64, t_end: f64, steps: usize) -> State {
+    let scheme = Newmark::hht(alpha);
+    let dt = t_end / steps as f64;
+    let mut s = State {
+        t: 0.0,
+        u: vec![1.0],
+        v: vec![0.0],
+        a: vec![-k],
+    };
+    for _ in 0..steps {
+        let pred = scheme.predict_u(dt, &s)[0];
+        let c = scheme.inertia_factor(dt);
+        let u_new = (c * pred + alpha * k * s.u[0]) / (c + (1.0 + alpha) * k);
+        s = scheme.correct(dt, &s, vec![u_new]);
+    }
+    s
+}
+
+#[test]
+fn hht_is_second_order_and_damps_unresolved_modes() {
+    let alpha = -0.05;
+    let exact = (2.0f64 * 2.0).cos();
+    let error = |steps| (integrate_hht(alpha, 4.0, 2.0, steps).u[0] - exact).abs();
+    let rate = (error(64) / error(128)).log2();
+    assert!(rate > 1.9, "observed order {rate:.2}");
+    // ω Δt = 1000: the amplitude shrinks by the spectral radius (1 + α)/(1 − α) per step
+    let k = 1e6;
+    let s = integrate_hht(alpha, k, 1.0, 20); // dt = 0.05, ω dt = 50
+    let energy = 0.5 * s.v[0] * s.v[0] + 0.5 * k * s.u[0] * s.u[0];
+    let rho: f64 = (1.0 + alpha) / (1.0 - alpha);
+    assert!(energy < 0.5 * k * rho.powi(20) * 1.5, "energy {energy} not damped");
+}

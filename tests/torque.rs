@@ -454,14 +454,15 @@ fn energy_balance(records: &[StepRecord]) -> f64 {
         / w_max
 }
 
-/// Spin-up from rest without gravity. The step is 0.002 s: the average-acceleration rule is not
-/// energy-conserving for a spinning hyperelastic body (Simo & Tarnow 1992), and with 0.01 s
-/// (0.26 rad per step at 1.1 s) the run gains strain energy and diverges near 1.1 s, just as a
-/// torque-free spin at 30 rad/s does near 0.6 s (see the report of this stage); the energy lag
-/// `Δφ_end²/3` of the torque module doc is 8e-4 here.
+/// Spin-up from rest without gravity, dt = 0.01 s for 1.5 s (the issue's setting), up to 0.34 rad
+/// per row. The average-acceleration rule is not energy-conserving for a spinning hyperelastic body
+/// (Simo & Tarnow 1992): with it this run pumps energy into the stiff elastic modes and fails near
+/// 1.26 s. HHT-α (α = −0.05) damps those modes, and the rotation control splits the steps into
+/// sub-steps of at most 3°, which keeps the chord error of the rotation (Δφ²/12) small.
 #[test]
 fn without_gravity_a_constant_torque_spins_the_pendulum_as_half_m_over_i_t_squared() {
-    let cfg = torque_config(1.0, 0.0, 0.002, 1.1);
+    let mut cfg = torque_config(1.0, 0.0, 0.01, 1.5);
+    cfg.time.scheme = pendulum_fem::config::Scheme::Hht;
     let (sim, records) = run(&cfg);
     let mut worst = 0.0f64;
     for r in records.iter().filter(|r| r.time >= 0.1 - 1e-9) {
@@ -471,24 +472,30 @@ fn without_gravity_a_constant_torque_spins_the_pendulum_as_half_m_over_i_t_squar
     let mut largest_step = 0.0f64;
     for w in records.windows(2) {
         let d = w[1].theta - w[0].theta;
-        assert!(d > 0.0 && d < 0.06, "θ jumps by {d} at t = {}", w[1].time);
+        // continuous (unwrapped): increments stay positive and far below π
+        assert!(d > 0.0 && d < 0.5, "θ jumps by {d} at t = {}", w[1].time);
         largest_step = largest_step.max(d);
     }
     let balance = energy_balance(&records);
     let last = records.last().unwrap();
+    let strain_peak = records.iter().map(|r| r.strain).fold(0.0, f64::max);
     println!(
-        "spin: θ(1.1 s) = {:.4} rad ({:.2} turns), largest relative deviation from ½(M/I)t² {worst:.2e}, \
-         largest step {largest_step:.3} rad, energy balance {balance:.2e}, work {:.4} J, {} Newton iterations, \
-         {} cut-backs",
+        "spin: θ(1.5 s) = {:.4} rad ({:.2} turns), largest relative deviation from ½(M/I)t² {worst:.2e}, \
+         largest row increment {largest_step:.3} rad, energy balance {balance:.2e}, work {:.4} J, strain peak \
+         {strain_peak:.2e} J, {} Newton iterations, {} cut-backs",
         last.theta,
         last.theta / std::f64::consts::TAU,
         last.torque_work,
         sim.total_iterations,
         sim.cutbacks
     );
-    assert!(last.theta > 2.0 * std::f64::consts::TAU, "several turns");
+    assert!(last.theta > 3.0 * std::f64::consts::TAU, "several turns");
+    // the issue's bar: within 0.5 % from 0.1 s on
     assert!(worst < 5e-3, "{worst}");
-    assert!(balance < 1e-3, "energy balance {balance}");
+    // HHT dissipates a little with the unresolved elastic modes (measured 1.1e-3 of the work)
+    assert!(balance < 3e-3, "energy balance {balance}");
+    // no elastic blow-up: the centrifugal strain energy at 34 rad/s is about 1e-4 J
+    assert!(strain_peak < 1e-3, "strain energy {strain_peak} J");
     assert!(records.iter().all(|r| r.torque == 1.0));
 }
 

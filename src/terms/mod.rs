@@ -65,3 +65,71 @@ pub trait Term: Send + Sync {
         0.0
     }
 }
+
+/// A term multiplied by a constant factor (the `(1 + α)` weight of HHT-α).
+pub struct Scaled<'a> {
+    /// The term.
+    pub term: &'a dyn Term,
+    /// The factor.
+    pub factor: f64,
+}
+
+impl Term for Scaled<'_> {
+    fn name(&self) -> &'static str {
+        self.term.name()
+    }
+
+    fn energy(&self, u: &[f64], t: f64) -> f64 {
+        self.factor * self.term.energy(u, t)
+    }
+
+    fn add_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) {
+        let mut own = vec![0.0; g.len()];
+        self.term.add_gradient(u, t, &mut own);
+        g.iter_mut().zip(&own).for_each(|(a, b)| *a += self.factor * b);
+    }
+
+    fn energy_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) -> f64 {
+        let mut own = vec![0.0; g.len()];
+        let e = self.term.energy_gradient(u, t, &mut own);
+        g.iter_mut().zip(&own).for_each(|(a, b)| *a += self.factor * b);
+        self.factor * e
+    }
+
+    fn add_hessian(&self, u: &[f64], t: f64, pattern: &Pattern, values: &mut [f64]) {
+        let mut own = vec![0.0; values.len()];
+        self.term.add_hessian(u, t, pattern, &mut own);
+        values.iter_mut().zip(&own).for_each(|(a, b)| *a += self.factor * b);
+    }
+
+    fn assemble(&self, u: &[f64], t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
+        let (mut own_g, mut own_k) = (vec![0.0; g.len()], vec![0.0; values.len()]);
+        let e = self.term.assemble(u, t, pattern, &mut own_g, &mut own_k);
+        g.iter_mut().zip(&own_g).for_each(|(a, b)| *a += self.factor * b);
+        values.iter_mut().zip(&own_k).for_each(|(a, b)| *a += self.factor * b);
+        self.factor * e
+    }
+}
+
+/// A constant load as an energy, `Π = f·u` (d'Alembert forces of the initial rigid motion; the
+/// `−α ∇Π(uₙ)` term of HHT-α).
+pub struct Linear {
+    /// `f = ∂Π/∂u` \[N\].
+    pub gradient: Vec<f64>,
+}
+
+impl Term for Linear {
+    fn name(&self) -> &'static str {
+        "linear load"
+    }
+
+    fn energy(&self, u: &[f64], _t: f64) -> f64 {
+        self.gradient.iter().zip(u).map(|(f, x)| f * x).sum()
+    }
+
+    fn add_gradient(&self, _u: &[f64], _t: f64, g: &mut [f64]) {
+        g.iter_mut().zip(&self.gradient).for_each(|(gi, f)| *gi += f);
+    }
+
+    fn add_hessian(&self, _u: &[f64], _t: f64, _pattern: &Pattern, _values: &mut [f64]) {}
+}
