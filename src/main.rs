@@ -108,6 +108,8 @@ enum BenchTarget {
     Memory,
     /// The tutorial mesh and a mesh of about `--triangles` triangles.
     Mesh,
+    /// The cost per step of a follower torque (0.1 N m and 0 N m against none).
+    Torque,
 }
 
 fn bench(args: BenchArgs) -> Result<(), Error> {
@@ -118,6 +120,9 @@ fn bench(args: BenchArgs) -> Result<(), Error> {
         BenchTarget::Scaling => bench::bench_scaling(&config, args.steps, args.largest),
         BenchTarget::Memory => bench::bench_memory(&config, 100, 1000),
         BenchTarget::Mesh => pendulum_fem::mesh::bench::bench_mesh(&config, Some(args.triangles)).map(|_| ()),
+        BenchTarget::Torque => [0.1, 0.0]
+            .into_iter()
+            .try_for_each(|m| bench::bench_torque(&config, 100, args.repeats, m).map(|_| ())),
     }
 }
 

@@ -7,6 +7,7 @@
 //! * `scaling`: time per step at about 5k, 20k, 80k and 320k unknowns (all mesh sizes scaled by a
 //!   common factor found by probing the mesher).
 //! * `mesh`: the tutorial mesh (best of 10) and a mesh of about `--triangles` triangles.
+//! * `torque`: 100 steps with and without a follower torque (the cost of the term).
 //! * `memory`: resident memory after 100 and after 1000 steps (streaming output must keep it flat).
 
 use std::path::{Path, PathBuf};
