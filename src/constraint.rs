@@ -9,8 +9,7 @@
 //! origin). The two Lagrange multipliers `λ` are forces: stationarity reads `∇Φ + Cᵀλ = 0`, so the
 //! force the hinge exerts on the body is `−λ` \[N\] ([`Hinge::reaction`]).
 
-use crate::element::Tri6;
-use crate::quadrature::GAUSS3_UNIT;
+use crate::fe::for_each_edge_point;
 use crate::{Error, Mesh};
 
 /// Mean-displacement hinge on a named boundary.
@@ -29,19 +28,12 @@ impl Hinge {
     pub fn new(mesh: &Mesh, name: &str) -> Result<Self, Error> {
         let mut acc = std::collections::BTreeMap::<usize, f64>::new();
         let mut length = 0.0;
-        for e in mesh.edges_named(name) {
-            let x = e.nodes.map(|n| mesh.nodes[n]);
-            for (s, w) in GAUSS3_UNIT {
-                let n = Tri6::edge_basis(s);
-                let dn = Tri6::edge_basis_derivatives(s);
-                let dx = [0, 1].map(|i| (0..3).map(|a| dn[a] * x[a][i]).sum::<f64>());
-                let ds = w * (dx[0] * dx[0] + dx[1] * dx[1]).sqrt();
-                length += ds;
-                for a in 0..3 {
-                    *acc.entry(e.nodes[a]).or_default() += n[a] * ds;
-                }
+        for_each_edge_point(mesh, name, |nodes, n, _x, ds| {
+            length += ds;
+            for a in 0..3 {
+                *acc.entry(nodes[a]).or_default() += n[a] * ds;
             }
-        }
+        });
         if acc.is_empty() || length <= 0.0 {
             return Err(Error::Mesh(format!(
                 "the mesh has no boundary named \"{name}\" for the hinge"

@@ -100,3 +100,19 @@ pub fn for_each_point(mesh: &Mesh, rule: &TriangleRule, mut visit: impl FnMut(us
         }
     }
 }
+
+/// Visits the 3-point Gauss points of every edge of the boundary `name`: `visit(nodes, N, x, ds)`
+/// with the edge's `[start, end, mid]` nodes, the quadratic edge basis `N` at the point, the point
+/// `x` and the weighted arc length `ds` (the map through all three nodes, exact on curved edges).
+pub fn for_each_edge_point(mesh: &Mesh, name: &str, mut visit: impl FnMut([usize; 3], [f64; 3], [f64; 2], f64)) {
+    for e in mesh.edges_named(name) {
+        let x = e.nodes.map(|n| mesh.nodes[n]);
+        for (s, w) in crate::quadrature::GAUSS3_UNIT {
+            let n = Tri6::edge_basis(s);
+            let dn = Tri6::edge_basis_derivatives(s);
+            let dx = [0, 1].map(|i| (0..3).map(|a| dn[a] * x[a][i]).sum::<f64>());
+            let p = [0, 1].map(|i| (0..3).map(|a| n[a] * x[a][i]).sum::<f64>());
+            visit(e.nodes, n, p, w * dx[0].hypot(dx[1]));
+        }
+    }
+}

@@ -40,16 +40,7 @@ impl Mesh {
 
     /// `det J` of element `t` at `(ξ, η)`.
     pub fn jacobian(&self, t: usize, xi: [f64; 2]) -> f64 {
-        let x = self.element_nodes(t);
-        let g = Tri6::basis_gradients(xi);
-        let mut j = [[0.0; 2]; 2];
-        for a in 0..6 {
-            for r in 0..2 {
-                for c in 0..2 {
-                    j[r][c] += x[a][r] * g[a][c];
-                }
-            }
-        }
+        let (j, _) = crate::fe::jacobian(&self.element_nodes(t), xi);
         j[0][0] * j[1][1] - j[0][1] * j[1][0]
     }
 

@@ -85,8 +85,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use super::Term;
 use crate::assembly::Pattern;
 use crate::config;
-use crate::element::Tri6;
-use crate::quadrature::GAUSS3_UNIT;
+use crate::fe::for_each_edge_point;
 use crate::{Error, Mesh};
 
 /// `M(t)` \[N·m\], counter-clockwise positive.
@@ -318,21 +317,13 @@ impl HubAngle {
     /// The weights on boundary `name` of `mesh` (pivot at the origin).
     pub fn new(mesh: &Mesh, name: &str) -> Result<Self, Error> {
         let mut acc = std::collections::BTreeMap::<usize, [f64; 2]>::new();
-        for e in mesh.edges_named(name) {
-            let x = e.nodes.map(|n| mesh.nodes[n]);
-            for (s, w) in GAUSS3_UNIT {
-                let n = Tri6::edge_basis(s);
-                let dn = Tri6::edge_basis_derivatives(s);
-                let dx = [0, 1].map(|i| (0..3).map(|a| dn[a] * x[a][i]).sum::<f64>());
-                let ds = w * (dx[0] * dx[0] + dx[1] * dx[1]).sqrt();
-                let p = [0, 1].map(|i| (0..3).map(|a| n[a] * x[a][i]).sum::<f64>());
-                for a in 0..3 {
-                    let v = acc.entry(e.nodes[a]).or_default();
-                    v[0] += p[0] * n[a] * ds;
-                    v[1] += p[1] * n[a] * ds;
-                }
+        for_each_edge_point(mesh, name, |nodes, n, p, ds| {
+            for a in 0..3 {
+                let v = acc.entry(nodes[a]).or_default();
+                v[0] += p[0] * n[a] * ds;
+                v[1] += p[1] * n[a] * ds;
             }
-        }
+        });
         if acc.is_empty() {
             return Err(Error::Mesh(format!(
                 "the mesh has no boundary named \"{name}\" for the torque"
