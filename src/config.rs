@@ -491,10 +491,6 @@ impl Config {
                 ),
             ));
         }
-        if g.hole_radius > 0.0 && g.rod_half_width >= g.hole_radius {
-            // the rod would reach into the hole's circle only if it ends beyond the head boundary;
-            // that is checked below. A rod wider than the hole is allowed.
-        }
         // The rod [−r, r] × [0, l] must reach into the head disc and must not end inside the hole:
         // its end meets the head circle at distance l − sqrt(R² − r²) from the pivot, which must be > 0,
         // and the rod end (the head centre) lies in the hole, so the rod's sides must meet the head ring
@@ -552,11 +548,7 @@ impl Config {
         }
         let mat = &self.material;
         positive("material.youngs_modulus", mat.youngs_modulus, "Pa")?;
-        let nu_max = match mat.plane {
-            Plane::Stress => 0.5,
-            Plane::Strain => 0.5,
-        };
-        if !(mat.poisson_ratio > -1.0 && mat.poisson_ratio < nu_max) {
+        if !(mat.poisson_ratio > -1.0 && mat.poisson_ratio < 0.5) {
             return Err(range(
                 "material.poisson_ratio",
                 mat.poisson_ratio,

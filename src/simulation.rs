@@ -134,25 +134,6 @@ impl Model {
         })
     }
 
-    /// Adds a term and extends the sparsity pattern by the entries it writes.
-    pub fn add_term(&mut self, term: Box<dyn Term>) {
-        let entries = term.hessian_entries();
-        if !entries.is_empty() {
-            let mut all = entries;
-            for t in &self.extra_terms {
-                all.extend(t.hessian_entries());
-            }
-            self.pattern = Pattern::new(&self.mesh, &all);
-            self.mass = MassMatrix::new(
-                &self.mesh,
-                &self.pattern,
-                self.config.material.density,
-                self.config.geometry.thickness,
-            );
-        }
-        self.extra_terms.push(term);
-    }
-
     /// Largest distance of a node from the pivot \[m\].
     pub fn length_scale(&self) -> f64 {
         self.mesh.nodes.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max)

@@ -58,7 +58,8 @@ impl Elastic {
         deformation_gradient(&self.triangles[e], grads, u)
     }
 
-    fn element(&self, e: usize, u: &[f64], want_k: bool) -> ElementOut {
+    /// Energy, gradient and tangent of one element.
+    fn element(&self, e: usize, u: &[f64]) -> ElementOut {
         let nq = self.cache.points_per_element;
         let mut out = ElementOut {
             energy: 0.0,
@@ -84,24 +85,22 @@ impl Elastic {
                     out.g[2 * n + i] += w * (p[2 * i] * gn[0] + p[2 * i + 1] * gn[1]);
                 }
             }
-            if want_k {
-                // AB[v][2b+k] = Σ_l A[v][2k+l] ∂N_b/∂X_l
-                let mut ab = [[0.0; 12]; 4];
-                for (v, abv) in ab.iter_mut().enumerate() {
-                    for (b, gb) in grads.iter().enumerate() {
-                        for k in 0..2 {
-                            abv[2 * b + k] = a[v][2 * k] * gb[0] + a[v][2 * k + 1] * gb[1];
-                        }
+            // AB[v][2b+k] = Σ_l A[v][2k+l] ∂N_b/∂X_l
+            let mut ab = [[0.0; 12]; 4];
+            for (v, abv) in ab.iter_mut().enumerate() {
+                for (b, gb) in grads.iter().enumerate() {
+                    for k in 0..2 {
+                        abv[2 * b + k] = a[v][2 * k] * gb[0] + a[v][2 * k + 1] * gb[1];
                     }
                 }
-                for (n, gn) in grads.iter().enumerate() {
-                    for i in 0..2 {
-                        let row = &mut out.k[(2 * n + i) * 12..(2 * n + i + 1) * 12];
-                        let (r0, r1) = (&ab[2 * i], &ab[2 * i + 1]);
-                        let (w0, w1) = (w * gn[0], w * gn[1]);
-                        for c in 0..12 {
-                            row[c] += w0 * r0[c] + w1 * r1[c];
-                        }
+            }
+            for (n, gn) in grads.iter().enumerate() {
+                for i in 0..2 {
+                    let row = &mut out.k[(2 * n + i) * 12..(2 * n + i + 1) * 12];
+                    let (r0, r1) = (&ab[2 * i], &ab[2 * i + 1]);
+                    let (w0, w1) = (w * gn[0], w * gn[1]);
+                    for c in 0..12 {
+                        row[c] += w0 * r0[c] + w1 * r1[c];
                     }
                 }
             }
@@ -154,8 +153,8 @@ impl Elastic {
         energy
     }
 
-    fn run(&self, u: &[f64], mut g: Option<&mut [f64]>, mut values: Option<(&Pattern, &mut [f64])>) -> f64 {
-        let want_k = values.is_some();
+    /// Energy and tangent (and the gradient when `g` is given) of the whole body.
+    fn run(&self, u: &[f64], mut g: Option<&mut [f64]>, pattern: &Pattern, values: &mut [f64]) -> f64 {
         let ne = self.triangles.len();
         let mut energy = 0.0;
         let mut buffer: Vec<ElementOut> = Vec::new();
@@ -165,7 +164,7 @@ impl Elastic {
             buffer.clear();
             (start..end)
                 .into_par_iter()
-                .map(|e| self.element(e, u, want_k))
+                .map(|e| self.element(e, u))
                 .collect_into_vec(&mut buffer);
             for (i, out) in buffer.iter().enumerate() {
                 let e = start + i;
@@ -175,9 +174,7 @@ impl Elastic {
                         g[*d] += gv;
                     }
                 }
-                if let Some((pattern, vals)) = values.as_mut() {
-                    pattern.scatter_element(e, &out.k, vals);
-                }
+                pattern.scatter_element(e, &out.k, values);
             }
             start = end;
         }
@@ -228,10 +225,10 @@ impl Term for Elastic {
     }
 
     fn add_hessian(&self, u: &[f64], _t: f64, pattern: &Pattern, values: &mut [f64]) {
-        self.run(u, None, Some((pattern, values)));
+        self.run(u, None, pattern, values);
     }
 
     fn assemble(&self, u: &[f64], _t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
-        self.run(u, Some(g), Some((pattern, values)))
+        self.run(u, Some(g), pattern, values)
     }
 }
