@@ -110,6 +110,11 @@ impl Model {
         let mass = MassMatrix::new(&mesh, &pattern, rho, t);
         let projection = RigidProjection::new(&mesh);
         let stress = StressRecovery::new(&mesh)?;
+        // α of HHT-α; 0 gives exactly the average-acceleration rule (β = ¼, γ = ½)
+        let hht_alpha = match config.time.scheme {
+            Scheme::Trapezoidal => 0.0,
+            Scheme::Hht => config.time.hht_alpha,
+        };
         Ok(Self {
             config: config.clone(),
             mesh,
@@ -123,14 +128,8 @@ impl Model {
             hinge,
             projection,
             stress,
-            newmark: match config.time.scheme {
-                Scheme::Trapezoidal => Newmark::AVERAGE_ACCELERATION,
-                Scheme::Hht => Newmark::hht(config.time.hht_alpha),
-            },
-            hht_alpha: match config.time.scheme {
-                Scheme::Trapezoidal => 0.0,
-                Scheme::Hht => config.time.hht_alpha,
-            },
+            newmark: Newmark::hht(hht_alpha),
+            hht_alpha,
         })
     }
 

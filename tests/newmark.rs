@@ -72,3 +72,8 @@ fn hht_is_second_order_and_damps_unresolved_modes() {
     let rho: f64 = (1.0 + alpha) / (1.0 - alpha);
     assert!(energy < 0.5 * k * rho.powi(20) * 1.5, "energy {energy} not damped");
 }
+
+#[test]
+fn hht_with_zero_alpha_is_the_average_acceleration_rule() {
+    assert_eq!(Newmark::hht(0.0), Newmark::AVERAGE_ACCELERATION);
+}

@@ -64,14 +64,14 @@ pub struct Inertia<'m> {
 }
 
 impl Inertia<'_> {
-    fn weighted_difference(&self, u: &[f64]) -> Vec<f64> {
+    /// The inertia force `c M (u − ũ)` and the energy `½ (u − ũ)·c M (u − ũ)`.
+    fn force_and_energy(&self, u: &[f64]) -> (Vec<f64>, f64) {
         let d: Vec<f64> = u.iter().zip(&self.predictor).map(|(a, b)| a - b).collect();
-        let mut md = vec![0.0; d.len()];
-        self.pattern.sym_matvec(&self.mass.values, &d, &mut md);
-        md.iter_mut().for_each(|x| *x *= self.factor);
-        // returns c M (u − ũ); energy is ½ (u − ũ)·that
-        md.extend_from_slice(&d);
-        md
+        let mut force = vec![0.0; d.len()];
+        self.pattern.sym_matvec(&self.mass.values, &d, &mut force);
+        force.iter_mut().for_each(|x| *x *= self.factor);
+        let energy = 0.5 * force.iter().zip(&d).map(|(a, b)| a * b).sum::<f64>();
+        (force, energy)
     }
 }
 
@@ -81,21 +81,17 @@ impl Term for Inertia<'_> {
     }
 
     fn energy(&self, u: &[f64], _t: f64) -> f64 {
-        let v = self.weighted_difference(u);
-        let (md, d) = v.split_at(u.len());
-        0.5 * md.iter().zip(d).map(|(a, b)| a * b).sum::<f64>()
+        self.force_and_energy(u).1
     }
 
-    fn add_gradient(&self, u: &[f64], _t: f64, g: &mut [f64]) {
-        let v = self.weighted_difference(u);
-        g.iter_mut().zip(&v[..u.len()]).for_each(|(gi, m)| *gi += m);
+    fn add_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) {
+        self.energy_gradient(u, t, g);
     }
 
     fn energy_gradient(&self, u: &[f64], _t: f64, g: &mut [f64]) -> f64 {
-        let v = self.weighted_difference(u);
-        let (md, d) = v.split_at(u.len());
-        g.iter_mut().zip(md).for_each(|(gi, m)| *gi += m);
-        0.5 * md.iter().zip(d).map(|(a, b)| a * b).sum::<f64>()
+        let (force, energy) = self.force_and_energy(u);
+        g.iter_mut().zip(&force).for_each(|(gi, f)| *gi += f);
+        energy
     }
 
     fn add_hessian(&self, _u: &[f64], _t: f64, _pattern: &Pattern, values: &mut [f64]) {
@@ -106,10 +102,7 @@ impl Term for Inertia<'_> {
     }
 
     fn assemble(&self, u: &[f64], t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
-        let v = self.weighted_difference(u);
-        let (md, d) = v.split_at(u.len());
-        g.iter_mut().zip(md).for_each(|(gi, m)| *gi += m);
         self.add_hessian(u, t, pattern, values);
-        0.5 * md.iter().zip(d).map(|(a, b)| a * b).sum::<f64>()
+        self.energy_gradient(u, t, g)
     }
 }
