@@ -71,7 +71,8 @@ pub struct Timings {
     pub solve: f64,
     /// Energy-only evaluations of the line search.
     pub line_search: f64,
-    /// Gradient-only evaluations for the final residual check.
+    /// Evaluations without a tangent (energy and gradient at the start of a solve and at trial
+    /// points of a reused factorisation, gradients for the residual checks).
     pub residual: f64,
 }
 
