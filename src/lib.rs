@@ -44,6 +44,7 @@ pub use mesh::Mesh;
 pub mod assembly;
 pub mod constraint;
 pub mod element;
+pub mod energy_momentum;
 pub mod fe;
 pub mod linsolve;
 pub mod material;

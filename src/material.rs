@@ -27,6 +27,9 @@ use crate::config::{self, MaterialModel, Plane};
 /// `vec(F) = [F₀₀, F₀₁, F₁₀, F₁₁]`, row-major.
 pub type VecF = [f64; 4];
 
+/// A symmetric 2-D tensor `[T₀₀, T₁₁, T₀₁]` (Green–Lagrange strain, second Piola–Kirchhoff stress).
+pub type Sym = [f64; 3];
+
 /// First Piola–Kirchhoff stress and its derivative, both in `vec(F)` order.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StressTangent {
@@ -47,6 +50,58 @@ pub fn det<T: DualNum<Primitive = f64> + Copy>(f: &[T; 4]) -> T {
 pub fn cofactor(f: &VecF) -> VecF {
     [f[3], -f[2], -f[1], f[0]]
 }
+
+/// Green–Lagrange strain `E = ½(FᵀF − I)` of `F`, formed from `H = F − I` as
+/// `E = ½(H + Hᵀ + HᵀH)` so that no entry is a difference of numbers near 1.
+pub fn green_strain(f: &VecF) -> Sym {
+    let h = [f[0] - 1.0, f[1], f[2], f[3] - 1.0];
+    [
+        h[0] + 0.5 * (h[0] * h[0] + h[2] * h[2]),
+        h[3] + 0.5 * (h[1] * h[1] + h[3] * h[3]),
+        0.5 * (h[1] + h[2] + h[0] * h[1] + h[2] * h[3]),
+    ]
+}
+
+/// `A : B = Σ_ij A_ij B_ij` of two symmetric tensors (the off-diagonal entry counts twice).
+pub fn sym_dot(a: &Sym, b: &Sym) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + 2.0 * a[2] * b[2]
+}
+
+/// `P = F S` (first from second Piola–Kirchhoff stress) in `vec` order.
+pub fn first_piola(f: &VecF, s: &Sym) -> [f64; 4] {
+    [
+        f[0] * s[0] + f[1] * s[2],
+        f[0] * s[2] + f[1] * s[1],
+        f[2] * s[0] + f[3] * s[2],
+        f[2] * s[2] + f[3] * s[1],
+    ]
+}
+
+/// `(1 + x)^a − 1` without cancellation for small `x` and, for `|x| < 10⁻³`, without a
+/// transcendental function: the binomial series to `x⁶`, whose remainder is below
+/// `|C(a, 7)| 10⁻²¹` relative (the strains of a steel pendulum are `10⁻⁷`); otherwise
+/// `expm1(a ln1p(x))`.
+#[inline]
+pub fn pow1p_minus_1(x: f64, a: f64) -> f64 {
+    if x.abs() < 1e-3 {
+        // a x (1 + (a−1)/2 x (1 + (a−2)/3 x (1 + … (1 + (a−5)/6 x))))
+        let mut t = 1.0;
+        for k in (1..6).rev() {
+            t = 1.0 + (a - k as f64) / (k as f64 + 1.0) * x * t;
+        }
+        a * x * t
+    } else {
+        (a * x.ln_1p()).exp_m1()
+    }
+}
+
+/// Multiple of the machine epsilon in the rounding bound of the discrete stress's correction
+/// ([`Material::discrete_stress`]).
+const DISCRETE_ROUNDING: f64 = 64.0;
+
+/// Size of a strain increment `|E₁ − E₀|` (Frobenius) below which [`Material::discrete_stress`]
+/// takes its correction from the Taylor series.
+const TAYLOR_LIMIT: f64 = 1e-4;
 
 /// An isotropic hyperelastic law in 2-D.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -71,6 +126,128 @@ impl Material {
             lambda,
             mu,
         }
+    }
+
+    /// `ψ` as a function of the Green–Lagrange strain `E` (with `det C > 0`), together with the
+    /// sum of the magnitudes of the terms it adds up (the scale of its rounding error) \[J/m³\].
+    ///
+    /// Neo-Hookean, with `C = I + 2E`, `det C = 1 + x`, `x = 2 tr E + 4 det E`, `k = λ/μ`:
+    /// `ψ = μ tr E + (μ/k) expm1(−(k/2) ln1p(x))`, which is the closed form of the module doc
+    /// written without differences of numbers near 1: its terms are of the size of the strain,
+    /// so the rounding error of `ψ` is `ε μ |tr E|`, not `ε μ` (for steel at a strain of 1e-7 the
+    /// energy density is 1e-3 J/m³ and the textbook form has an absolute error of 1e-5).
+    pub fn strain_energy(&self, e: &Sym) -> (f64, f64) {
+        let tr = e[0] + e[1];
+        match self.model {
+            MaterialModel::NeoHookean => {
+                let (lambda, mu) = (self.lambda, self.mu);
+                let k = lambda / mu;
+                let x = 2.0 * tr + 4.0 * (e[0] * e[1] - e[2] * e[2]);
+                let second = mu / k * pow1p_minus_1(x, -0.5 * k);
+                (mu * tr + second, (mu * tr).abs() + second.abs())
+            }
+            MaterialModel::SaintVenantKirchhoff => {
+                let psi = 0.5 * self.lambda * tr * tr + self.mu * sym_dot(e, e);
+                (psi, psi)
+            }
+        }
+    }
+
+    /// Second Piola–Kirchhoff stress `S = ∂ψ/∂E` \[Pa\] (with `det C > 0`).
+    ///
+    /// Neo-Hookean: `S = μ (I − J^(−k) C⁻¹)`, `J^(−k) C⁻¹ = d adj C`, `d = (det C)^(−k/2 − 1)`;
+    /// St. Venant–Kirchhoff: `S = λ tr E I + 2μ E`.
+    pub fn second_piola(&self, e: &Sym) -> Sym {
+        self.second_piola_parts(e).0
+    }
+
+    /// [`Material::second_piola`] and, for the Neo-Hookean law, `(d, det C)` (`(0, 1)` otherwise).
+    fn second_piola_parts(&self, e: &Sym) -> (Sym, f64, f64) {
+        let tr = e[0] + e[1];
+        match self.model {
+            MaterialModel::NeoHookean => {
+                let (lambda, mu) = (self.lambda, self.mu);
+                let k = lambda / mu;
+                let x = 2.0 * tr + 4.0 * (e[0] * e[1] - e[2] * e[2]);
+                let d_minus_1 = pow1p_minus_1(x, -(0.5 * k + 1.0));
+                let d = 1.0 + d_minus_1;
+                // S₀₀ = μ(1 − d C₁₁) = μ(−(d − 1) − 2 d E₁₁), likewise S₁₁; S₀₁ = μ d C₀₁ = 2 μ d E₀₁
+                let s = [
+                    mu * (-d_minus_1 - 2.0 * d * e[1]),
+                    mu * (-d_minus_1 - 2.0 * d * e[0]),
+                    2.0 * mu * d * e[2],
+                ];
+                (s, d, 1.0 + x)
+            }
+            MaterialModel::SaintVenantKirchhoff => {
+                let (l, m2) = (self.lambda * tr, 2.0 * self.mu);
+                ([l + m2 * e[0], l + m2 * e[1], m2 * e[2]], 0.0, 1.0)
+            }
+        }
+    }
+
+    /// The discrete stress of Gonzalez (2000) between two strains: with `E_m = ½(E₀ + E₁)`,
+    /// `D = E₁ − E₀`,
+    ///
+    /// ```text
+    /// S_d = S(E_m) + N / (D:D) D,   N = ψ(E₁) − ψ(E₀) − S(E_m):D,   so that   S_d : D = ψ(E₁) − ψ(E₀).
+    /// ```
+    ///
+    /// It depends on the strains only, so it is objective. `N` is of third order in `D`. For
+    /// `|D| ≥ 10⁻⁴` it is computed as written; when it is then below its own rounding error
+    /// (`64 ε` times the magnitudes it is made of) the correction is left out, since it would only
+    /// amplify rounding. For `|D| < 10⁻⁴` (every strain increment of a steel pendulum) the
+    /// difference would be all rounding, and `N` is taken from its Taylor series about `E_m`,
+    /// `N = ψ'''(E_m)[D, D, D]/24 + ψ⁽⁵⁾(E_m)[D,…]/1920 + …`, of which the first term is kept: the
+    /// neglected part is below `10⁻¹⁰ |N|`, far below rounding. For the St. Venant–Kirchhoff law `ψ` is
+    /// quadratic in `E` and `N = 0`. For the Neo-Hookean law, along `E(s) = E_m + s D`,
+    /// `det C = 1 + x(s)`, `x = x_m + s x₁ + s² x₂` with `x₁ = 2 tr D + 4 (E₀₀D₁₁ + E₁₁D₀₀ − 2E₀₁D₀₁)`,
+    /// `x₂ = 4 det D`, and with `p = k/2`, `w = 1/(1 + x_m)`, `d = (1 + x_m)^(−p−1)`:
+    /// `ψ''' = (μ/2)(p + 1) d w x₁ (6 x₂ − (p + 2) w x₁²)`.
+    pub fn discrete_stress(&self, e0: &Sym, e1: &Sym) -> Sym {
+        let em = [0.5 * (e0[0] + e1[0]), 0.5 * (e0[1] + e1[1]), 0.5 * (e0[2] + e1[2])];
+        let de = [e1[0] - e0[0], e1[1] - e0[1], e1[2] - e0[2]];
+        let (mut s, d, det_c) = self.second_piola_parts(&em);
+        let norm2 = sym_dot(&de, &de);
+        if norm2 == 0.0 {
+            return s;
+        }
+        let numerator = if norm2 >= TAYLOR_LIMIT * TAYLOR_LIMIT {
+            let (psi0, psi1) = (self.strain_energy(e0), self.strain_energy(e1));
+            let work = sym_dot(&s, &de);
+            let numerator = psi1.0 - psi0.0 - work;
+            let size = psi0.1 + psi1.1 + (s[0] * de[0]).abs() + (s[1] * de[1]).abs() + 2.0 * (s[2] * de[2]).abs();
+            if numerator.abs() <= DISCRETE_ROUNDING * f64::EPSILON * size {
+                return s;
+            }
+            numerator
+        } else {
+            match self.model {
+                MaterialModel::NeoHookean => {
+                    let p = 0.5 * self.lambda / self.mu;
+                    let w = 1.0 / det_c;
+                    let x1 = 2.0 * (de[0] + de[1]) + 4.0 * (em[0] * de[1] + em[1] * de[0] - 2.0 * em[2] * de[2]);
+                    let x2 = 4.0 * (de[0] * de[1] - de[2] * de[2]);
+                    let third = 0.5 * self.mu * (p + 1.0) * d * w * x1 * (6.0 * x2 - (p + 2.0) * w * x1 * x1);
+                    third / 24.0
+                }
+                MaterialModel::SaintVenantKirchhoff => 0.0,
+            }
+        };
+        let c = numerator / norm2;
+        for i in 0..3 {
+            s[i] += c * de[i];
+        }
+        s
+    }
+
+    /// `ψ(F)` for a real `F`, through [`Material::strain_energy`]; `+∞` for `J ≤ 0`.
+    #[allow(non_snake_case)]
+    pub fn energy(&self, F: &VecF) -> f64 {
+        if det(F) <= 0.0 {
+            return f64::INFINITY;
+        }
+        self.strain_energy(&green_strain(F)).0
     }
 
     /// `ψ(F)`, generic in the scalar so that it can be differentiated automatically.
@@ -136,12 +313,11 @@ impl Material {
             MaterialModel::NeoHookean => {
                 let (lambda, mu) = (self.lambda, self.mu);
                 let k = lambda / mu;
-                let jk = J.powf(-k);
+                let jk = 1.0 + pow1p_minus_1(J - 1.0, -k);
                 let jk1 = jk / J; // J^(−k−1)
                 let jk2 = jk1 / J; // J^(−k−2)
                 let c = cofactor(F);
-                let tr_c = F.iter().map(|x| x * x).sum::<f64>();
-                let energy = 0.5 * mu * (tr_c - 2.0) + mu * mu / lambda * (jk - 1.0);
+                let energy = self.strain_energy(&green_strain(F)).0;
                 let stress = [0, 1, 2, 3].map(|v| mu * (F[v] - jk1 * c[v]));
                 let mut tangent = [[0.0; 4]; 4];
                 let a = mu * (k + 1.0) * jk2;
@@ -163,7 +339,10 @@ impl Material {
                     tangent,
                 }
             }
-            MaterialModel::SaintVenantKirchhoff => self.stress_tangent_ad(F),
+            MaterialModel::SaintVenantKirchhoff => StressTangent {
+                energy: self.strain_energy(&green_strain(F)).0,
+                ..self.stress_tangent_ad(F)
+            },
         }
     }
 
@@ -177,16 +356,15 @@ impl Material {
         match self.model {
             MaterialModel::NeoHookean => {
                 let (lambda, mu) = (self.lambda, self.mu);
-                let jk = J.powf(-lambda / mu);
+                let jk = 1.0 + pow1p_minus_1(J - 1.0, -lambda / mu);
                 let jk1 = jk / J;
                 let c = cofactor(F);
-                let tr_c = F.iter().map(|x| x * x).sum::<f64>();
-                let energy = 0.5 * mu * (tr_c - 2.0) + mu * mu / lambda * (jk - 1.0);
+                let energy = self.strain_energy(&green_strain(F)).0;
                 (energy, [0, 1, 2, 3].map(|v| mu * (F[v] - jk1 * c[v])))
             }
             MaterialModel::SaintVenantKirchhoff => {
-                let st = self.stress_tangent_ad(F);
-                (st.energy, st.stress)
+                let e = green_strain(F);
+                (self.strain_energy(&e).0, first_piola(F, &self.second_piola(&e)))
             }
         }
     }
@@ -208,7 +386,7 @@ impl Material {
             Plane::Stress => 0.0,
             Plane::Strain => match self.model {
                 // 3-D energies with F₃₃ = 1: S₃₃ = μ(1 − J^(−k)) resp. λ tr E, and σzz = S₃₃ / J.
-                MaterialModel::NeoHookean => self.mu * (1.0 - J.powf(-self.lambda / self.mu)) / J,
+                MaterialModel::NeoHookean => -self.mu * pow1p_minus_1(J - 1.0, -self.lambda / self.mu) / J,
                 MaterialModel::SaintVenantKirchhoff => {
                     let tr_e = 0.5 * (F.iter().map(|x| x * x).sum::<f64>() - 2.0);
                     self.lambda * tr_e / J

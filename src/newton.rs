@@ -43,6 +43,11 @@ pub struct NewtonSettings {
     pub matrix_key: f64,
     /// Allow reusing a factorisation from an earlier call (see [`Solver::minimize`]).
     pub reuse: bool,
+    /// Turn \[rad\] by which [`Solver::solve`] rotates the residual before the linear solve (and the
+    /// multipliers back): the energy-momentum Jacobian is `≈ Q(−Δφ/2) K` in the stiff modes, the
+    /// tangent `K` at the end of the step seen from the mid-step frame (see
+    /// [`crate::energy_momentum`]), so `Δφ/2` there; 0 for [`Solver::minimize`].
+    pub residual_turn: f64,
 }
 
 /// What happened in a converged solve.
@@ -85,6 +90,8 @@ pub struct Solver {
     k: Vec<f64>,
     rhs: Vec<f64>,
     trial: Vec<f64>,
+    /// `K_f⁻¹ Cᵀ` (two columns) of the current factorisation, in its frame.
+    hinge_columns: Vec<f64>,
     /// `(proxy angle, matrix key)` of the current factorisation.
     factor_frame: Option<(f64, f64)>,
     /// Positions of the diagonal entries in the pattern's values.
@@ -102,7 +109,7 @@ pub const ROUNDING_FACTOR: f64 = 10.0;
 pub const REFACTOR_CONTRACTION: f64 = 0.5;
 
 /// `angle` wrapped into `(−π, π]`.
-fn wrap_angle(angle: f64) -> f64 {
+pub fn wrap_angle(angle: f64) -> f64 {
     let tau = std::f64::consts::TAU;
     angle - tau * (angle / tau).round()
 }
@@ -138,6 +145,7 @@ impl Solver {
             k: vec![0.0; pattern.nnz()],
             rhs: vec![0.0; 3 * n],
             trial: vec![0.0; n],
+            hinge_columns: vec![0.0; 2 * n],
             factor_frame: None,
             diagonal: (0..n)
                 .map(|i| pattern.position(i, i).expect("diagonal in pattern"))
@@ -202,22 +210,50 @@ impl Solver {
 
     /// Solves `K̃ Δu + Cᵀλ = −g`, `C(u + Δu) = 0` with the current factorisation, rotated by `dphi`
     /// from its frame into the current one; returns `(Δu, λ, δ²)`.
-    fn constrained_solve(&mut self, u: &[f64], dphi: f64) -> (Vec<f64>, [f64; 2], f64) {
+    /// Numeric factorisation of `self.k` and the hinge columns `K⁻¹ Cᵀ` in the factor's frame.
+    fn factorize(&mut self, pattern: &Pattern) -> Result<(), crate::linsolve::NotPositiveDefinite> {
+        let start = std::time::Instant::now();
+        let factored = self.chol.factor(pattern, &self.k);
+        self.timings.factorization += start.elapsed().as_secs_f64();
+        if factored.is_ok() {
+            let start = std::time::Instant::now();
+            let n = self.g.len();
+            self.hinge_columns[..n].copy_from_slice(&self.rows[0]);
+            self.hinge_columns[n..].copy_from_slice(&self.rows[1]);
+            self.chol.solve_in_place(&mut self.hinge_columns);
+            self.timings.solve += start.elapsed().as_secs_f64();
+        }
+        factored
+    }
+
+    fn constrained_solve(&mut self, u: &[f64], dphi: f64, turn: f64) -> (Vec<f64>, [f64; 2], f64) {
         let start = std::time::Instant::now();
         let n = self.g.len();
-        // Columns: −g, Cᵀ row x, Cᵀ row y, each rotated by −dphi into the factor's frame.
+        // −g turned by `turn`, rotated by −dphi into the factor's frame, solved, rotated back.
+        let y = &mut self.rhs[..n];
         for i in 0..n {
-            self.rhs[i] = -self.g[i];
+            y[i] = -self.g[i];
         }
-        self.rhs[n..2 * n].copy_from_slice(&self.rows[0]);
-        self.rhs[2 * n..].copy_from_slice(&self.rows[1]);
-        let rotate = dphi != 0.0;
-        if rotate {
-            rotate_pairs(&mut self.rhs, -dphi);
+        if turn - dphi != 0.0 {
+            rotate_pairs(y, turn - dphi);
         }
-        self.chol.solve_in_place(&mut self.rhs);
-        if rotate {
-            rotate_pairs(&mut self.rhs, dphi);
+        self.chol.solve_in_place(y);
+        if dphi != 0.0 {
+            rotate_pairs(y, dphi);
+        }
+        // The hinge columns K⁻¹Cᵀ in the current frame: Q(dphi) K_f⁻¹ Q(−dphi) Cᵀ. A rotation of
+        // the two columns of Cᵀ (each node's weight times e_x, e_y) mixes them:
+        // Q(β) c_x = cos β c_x + sin β c_y, Q(β) c_y = −sin β c_x + cos β c_y, β = −dphi.
+        let (sb, cb) = (-dphi).sin_cos();
+        let (fx, fy) = self.hinge_columns.split_at(n);
+        let (zx, zy) = self.rhs[n..].split_at_mut(n);
+        for i in 0..n {
+            zx[i] = cb * fx[i] + sb * fy[i];
+            zy[i] = -sb * fx[i] + cb * fy[i];
+        }
+        if dphi != 0.0 {
+            rotate_pairs(zx, dphi);
+            rotate_pairs(zy, dphi);
         }
         let (y, z) = self.rhs.split_at(n);
         let (zx, zy) = z.split_at(n);
@@ -236,6 +272,13 @@ impl Solver {
             (s[0][0] * b[1] - s[1][0] * b[0]) / det,
         ];
         let du: Vec<f64> = (0..n).map(|i| y[i] - zx[i] * lam[0] - zy[i] * lam[1]).collect();
+        // the turned system carries the turned multipliers: Q(turn) Cᵀλ = Cᵀ R(turn) λ
+        let lam = if turn != 0.0 {
+            let (s, c) = (-turn).sin_cos();
+            [c * lam[0] - s * lam[1], s * lam[0] + c * lam[1]]
+        } else {
+            lam
+        };
         let decrement = -(dot(&du, &self.g) + lam[0] * dot(&self.rows[0], &du) + lam[1] * dot(&self.rows[1], &du));
         self.timings.solve += start.elapsed().as_secs_f64();
         (du, lam, decrement)
@@ -279,9 +322,7 @@ impl Solver {
                     phi = Some(self.assemble(pattern, terms, u, t));
                     k_at_u = true;
                 }
-                let start = std::time::Instant::now();
-                let factored = self.chol.factor(pattern, &self.k);
-                self.timings.factorization += start.elapsed().as_secs_f64();
+                let factored = self.factorize(pattern);
                 report.factorizations += 1;
                 if factored.is_err() {
                     self.factor_frame = None;
@@ -294,7 +335,7 @@ impl Solver {
             }
             let (frame, _) = self.factor_frame.expect("a factorisation exists");
             let dphi = wrap_angle(settings.frame_angle - frame);
-            let (du, lam, decrement) = self.constrained_solve(u, dphi);
+            let (du, lam, decrement) = self.constrained_solve(u, dphi, 0.0);
             report.iterations = iteration;
             report.decrements.push(decrement);
             if !decrement.is_finite() {
@@ -408,6 +449,128 @@ impl Solver {
             iterations: settings.max_iterations,
             energy_norm: last,
             residual,
+        })
+    }
+
+    /// Solves the system `r(u) + Cᵀλ = 0`, `C u = 0`, where `r` is the sum of the terms' gradients
+    /// and no potential exists (the energy-momentum step, [`crate::energy_momentum`]). The sum of
+    /// the terms' Hessians serves as a symmetric approximation of the Jacobian `∂r/∂u` (factorised
+    /// and reused exactly as in [`Solver::minimize`]); the terms' energies only flag inadmissible
+    /// states (`+∞`).
+    ///
+    /// Each iteration solves for the update, evaluates `r` at `u + sΔu` (`s = 1` first) and takes
+    /// it when the residual `‖r + Cᵀλ‖∞` decreases or is already within the bound; otherwise it
+    /// refactorises at `u` (a reused factorisation) or halves `s`. It has converged when the update
+    /// satisfies `δ² = Δuᵀ K̃ Δu < tolerance` (the criterion of [`Solver::minimize`]), the residual
+    /// is within `residual_tolerance · load_scale` (with its rounding floor), and, with `energy`
+    /// given as `(u₀, bound)`, `|½ (u − u₀) · r(u)| ≤ bound`: for the energy-momentum step that is
+    /// exactly the error of the step's energy balance \[J\].
+    // the system (pattern, terms, time), the unknowns (u, λ), the settings and the energy check
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve(
+        &mut self,
+        pattern: &Pattern,
+        terms: &[&dyn Term],
+        t: f64,
+        u: &mut [f64],
+        lambda: &mut [f64; 2],
+        settings: &NewtonSettings,
+        energy: Option<(&[f64], f64)>,
+    ) -> Result<NewtonReport, NewtonError> {
+        let n = pattern.n;
+        let mut report = NewtonReport::default();
+        if !self.energy_gradient(terms, u, t).is_finite() {
+            return Err(NewtonError::NonFinite { iteration: 0 });
+        }
+        let mut r_prev = residual_norm_of(&self.g, &self.rows, *lambda);
+        let mut need_factor = !settings.reuse || self.factor_frame.is_none_or(|(_, key)| key != settings.matrix_key);
+        let mut factor_at_u = false;
+        let mut iteration = 0;
+        let mut e_prev = f64::INFINITY;
+        while iteration < settings.max_iterations {
+            iteration += 1;
+            if need_factor {
+                self.assemble(pattern, terms, u, t);
+                let factored = self.factorize(pattern);
+                report.factorizations += 1;
+                if factored.is_err() {
+                    self.factor_frame = None;
+                    return Err(NewtonError::SingularTangent { iteration });
+                }
+                self.factor_frame = Some((settings.frame_angle, settings.matrix_key));
+                self.diagonal_max = self.diagonal.iter().fold(0.0f64, |m, &k| m.max(self.k[k].abs()));
+                need_factor = false;
+                factor_at_u = true;
+            }
+            let (frame, _) = self.factor_frame.expect("a factorisation exists");
+            let dphi = wrap_angle(settings.frame_angle - frame);
+            let (du, lam, decrement) = self.constrained_solve(u, dphi, settings.residual_turn);
+            report.iterations = iteration;
+            report.decrements.push(decrement);
+            if !decrement.is_finite() {
+                return Err(NewtonError::NonFinite { iteration });
+            }
+            let bound = self.residual_bound(settings);
+            let mut step = 1.0;
+            let accepted = loop {
+                for i in 0..n {
+                    self.trial[i] = u[i] + step * du[i];
+                }
+                let lam_trial = [0, 1].map(|k| lambda[k] + step * (lam[k] - lambda[k]));
+                let trial = std::mem::take(&mut self.trial);
+                let admissible = self.energy_gradient(terms, &trial, t).is_finite();
+                self.trial = trial;
+                let r = residual_norm_of(&self.g, &self.rows, lam_trial);
+                if admissible && (r < r_prev || r <= bound) {
+                    break Some((lam_trial, r));
+                }
+                if !factor_at_u || step < 1e-3 {
+                    break None;
+                }
+                step *= 0.5;
+            };
+            let Some((lam_new, r)) = accepted else {
+                if factor_at_u {
+                    return Err(NewtonError::LineSearch {
+                        iteration,
+                        residual: r_prev,
+                    });
+                }
+                // a reused factorisation led astray: redo the iteration with the tangent at u
+                need_factor = true;
+                continue;
+            };
+            u.copy_from_slice(&self.trial);
+            *lambda = lam_new;
+            report.step_lengths.push(step);
+            report.residual = r;
+            // the energy balance is met, or it has stopped improving at a residual within the
+            // bound (rounding: the last iteration did not halve it)
+            let balanced = match energy {
+                Some((u0, limit)) => {
+                    let e = (0..n).map(|i| (u[i] - u0[i]) * self.g[i]).sum::<f64>().abs() * 0.5;
+                    let stalled = r_prev <= bound && e >= 0.5 * e_prev;
+                    e_prev = e;
+                    e <= limit || stalled
+                }
+                None => true,
+            };
+            if step == 1.0 && decrement.abs() < settings.tolerance && r <= bound && balanced {
+                return Ok(report);
+            }
+            // a reused factorisation that contracts slowly is renewed (not once the residual is
+            // within the bound: then only the energy balance is being tightened)
+            if r > REFACTOR_CONTRACTION * r_prev && r > bound && !factor_at_u {
+                need_factor = true;
+            }
+            factor_at_u = false;
+            r_prev = r;
+        }
+        let last = report.decrements.last().copied().unwrap_or(f64::NAN);
+        Err(NewtonError::MaxIterations {
+            iterations: settings.max_iterations,
+            energy_norm: last,
+            residual: r_prev,
         })
     }
 

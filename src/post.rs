@@ -20,7 +20,6 @@
 //! the six nodes of every element. Nodal fields average the element values; the reported maximum
 //! is the largest element-node value (not averaged).
 
-use crate::assembly::Pattern;
 use crate::element::Tri6;
 use crate::fe::{for_each_point, FeCache};
 use crate::material::{von_mises, Material};
@@ -106,9 +105,9 @@ impl Unwrap {
 
 /// `(∫ x × w dA, ∫ x·x dA)` up to the common factor ρ t, for interleaved nodal positions `x` and a
 /// field `w`, through the mass matrix.
-pub fn moment_of(pattern: &Pattern, mass: &MassMatrix, x: &[f64], w: &[f64], scratch: &mut Vec<f64>) -> f64 {
+pub fn moment_of(mass: &MassMatrix, x: &[f64], w: &[f64], scratch: &mut Vec<f64>) -> f64 {
     scratch.resize(x.len(), 0.0);
-    pattern.sym_matvec(&mass.values, w, scratch);
+    mass.apply(w, scratch);
     (0..x.len() / 2)
         .map(|a| x[2 * a] * scratch[2 * a + 1] - x[2 * a + 1] * scratch[2 * a])
         .sum()
@@ -157,15 +156,18 @@ impl StressRecovery {
 
     /// Largest element-node von Mises stress only (cheap, every step).
     pub fn max_von_mises(&self, material: &Material, u: &[f64]) -> f64 {
-        let mut max = 0.0f64;
-        for (e, tri) in self.triangles.iter().enumerate() {
-            for a in 0..6 {
-                let f = deformation_gradient(tri, &self.nodal.grads[e * 6 + a], u);
-                let (s, szz) = material.cauchy_stress(&f);
-                max = max.max(von_mises(s, szz));
-            }
-        }
-        max
+        use rayon::prelude::*;
+        self.triangles
+            .par_iter()
+            .enumerate()
+            .map(|(e, tri)| {
+                (0..6).fold(0.0f64, |max, a| {
+                    let f = deformation_gradient(tri, &self.nodal.grads[e * 6 + a], u);
+                    let (s, szz) = material.cauchy_stress(&f);
+                    max.max(von_mises(s, szz))
+                })
+            })
+            .reduce(|| 0.0, f64::max)
     }
 
     /// Averaged nodal fields and the maximum.

@@ -27,16 +27,19 @@
 use crate::assembly::Pattern;
 use crate::config::{Config, InitialAcceleration, InitialElastic, Scheme, TorqueProfile as ProfileKind};
 use crate::constraint::Hinge;
+use crate::energy_momentum::EnergyMomentum;
 use crate::error::NewtonError;
 use crate::fe::FeCache;
 use crate::io::Frame;
 use crate::material::Material;
 use crate::newmark::{Newmark, State};
 use crate::newton::{NewtonSettings, Solver, Timings};
-use crate::post::{moment_of, NodalStress, RigidProjection, StressRecovery, Unwrap};
+use crate::post::{NodalStress, RigidProjection, StressRecovery, Unwrap};
 use crate::quadrature::TriangleRule;
 use crate::terms::inertia::MassMatrix;
-use crate::terms::{Elastic, Gravity, Inertia, Linear, Scaled, Term, Torque, TorqueProfile};
+use crate::terms::{
+    DiscreteGradient, Elastic, Gravity, Inertia, Linear, Scaled, StepStart, Term, Torque, TorqueProfile,
+};
 use crate::{Error, Mesh};
 
 /// Relative equilibrium tolerance of a converged step: `‖∇Φ + Cᵀλ‖∞ ≤ 10⁻⁴ × load scale`, where the
@@ -80,6 +83,8 @@ pub struct Model {
     pub newmark: Newmark,
     /// α of HHT-α (0: the trapezoidal rule).
     pub hht_alpha: f64,
+    /// The time integration scheme.
+    pub scheme: Scheme,
 }
 
 impl Model {
@@ -112,7 +117,7 @@ impl Model {
         let stress = StressRecovery::new(&mesh)?;
         // α of HHT-α; 0 gives exactly the average-acceleration rule (β = ¼, γ = ½)
         let hht_alpha = match config.time.scheme {
-            Scheme::Trapezoidal => 0.0,
+            Scheme::Trapezoidal | Scheme::EnergyMomentum => 0.0,
             Scheme::Hht => config.time.hht_alpha,
         };
         Ok(Self {
@@ -130,6 +135,7 @@ impl Model {
             stress,
             newmark: Newmark::hht(hht_alpha),
             hht_alpha,
+            scheme: config.time.scheme,
         })
     }
 
@@ -239,12 +245,14 @@ pub struct StepRecord {
     /// Work done by the actuator since the start \[J\]; `total − total(0)` equals it up to the
     /// integrator's energy error.
     pub torque_work: f64,
+    /// Angular momentum about the pivot, `∫ ρ t x × v dA` \[kg m²/s\].
+    pub angular_momentum: f64,
 }
 
 impl StepRecord {
     /// CSV header, in this order.
     pub const HEADER: &'static str = "time_s,theta_rad,omega_rad_s,alpha_rad_s2,kinetic_J,strain_J,gravity_J,total_J,\
-hinge_fx_N,hinge_fy_N,von_mises_max_Pa,newton_iterations,torque_Nm,torque_work_J";
+hinge_fx_N,hinge_fy_N,von_mises_max_Pa,newton_iterations,torque_Nm,torque_work_J,angular_momentum_kg_m2_s";
 }
 
 /// Nodal fields of the current state, owned, for the frame writers.
@@ -310,8 +318,23 @@ pub struct Simulation {
     scratch: Vec<f64>,
     /// `(t, α)` at the start of the previous (sub)step, for the predictor's `α̇`.
     previous_alpha: Option<(f64, f64)>,
-    /// `(ω, α)` of the current state, once computed.
-    rates: Option<(f64, f64)>,
+    /// Rigid-body measures of the current state, once computed.
+    rates: Option<Kinematics>,
+    /// `M x` of the current positions (valid with `rates`).
+    mx: Vec<f64>,
+}
+
+/// Rigid-body measures of a state (see [`Simulation::kinematics`]).
+#[derive(Clone, Copy, Debug)]
+struct Kinematics {
+    /// Best-fit angular velocity \[rad/s\].
+    omega: f64,
+    /// Best-fit angular acceleration \[rad/s²\].
+    alpha: f64,
+    /// Kinetic energy \[J\].
+    kinetic: f64,
+    /// Angular momentum about the pivot \[kg m²/s\].
+    momentum: f64,
 }
 
 impl Simulation {
@@ -332,14 +355,13 @@ impl Simulation {
             scratch: Vec::new(),
             previous_alpha: None,
             rates: None,
+            mx: Vec::new(),
             model,
         };
         // The multipliers of the initial state from the balance of linear momentum:
         // −λ = ∫ ρ t a dA − F_gravity  (the force the hinge must exert on the body).
         let mut ma = vec![0.0; sim.state.a.len()];
-        sim.model
-            .pattern
-            .sym_matvec(&sim.model.mass.values, &sim.state.a, &mut ma);
+        sim.model.mass.apply(&sim.state.a, &mut ma);
         let fx: f64 = ma.iter().step_by(2).sum();
         let fy: f64 = ma.iter().skip(1).step_by(2).sum::<f64>() + sim.model.gravity.load_gradient.iter().sum::<f64>();
         sim.lambda = [-fx, -fy];
@@ -355,7 +377,7 @@ impl Simulation {
     fn equilibrate(&mut self) -> Result<(), Error> {
         let m = &self.model;
         let mut inertial = vec![0.0; self.state.a.len()];
-        m.pattern.sym_matvec(&m.mass.values, &self.state.a, &mut inertial);
+        m.mass.apply(&self.state.a, &mut inertial);
         let dalembert = Linear { gradient: inertial };
         let pin = Inertia {
             mass: &m.mass,
@@ -383,6 +405,7 @@ impl Simulation {
             frame_angle: m.projection.angle(&self.state.u),
             matrix_key: -1.0,
             reuse: false,
+            residual_turn: 0.0,
         };
         let mut u = self.state.u.clone();
         let mut lambda = self.lambda;
@@ -426,12 +449,14 @@ impl Simulation {
     /// Post-processes the current state into a CSV record.
     pub fn record(&mut self, newton_iterations: usize) -> StepRecord {
         let theta = self.unwrap.next(self.model.projection.angle(&self.state.u));
-        let (omega, alpha) = self.angular_rates();
+        let Kinematics {
+            omega,
+            alpha,
+            kinetic,
+            momentum,
+        } = self.kinematics();
         let m = &self.model;
         let s = &self.state;
-        let mut mv = vec![0.0; s.v.len()];
-        m.pattern.sym_matvec(&m.mass.values, &s.v, &mut mv);
-        let kinetic = 0.5 * s.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
         let strain = m.elastic.energy(&s.u, s.t);
         let gravity = m.gravity.energy(&s.u, s.t);
         StepRecord {
@@ -449,7 +474,13 @@ impl Simulation {
             newton_iterations,
             torque: m.applied_torque(s.t),
             torque_work: self.torque_work,
+            angular_momentum: momentum,
         }
+    }
+
+    /// Angular momentum about the pivot of the current state, `Σ_ab M_ab x_a × v_b` \[kg m²/s\].
+    pub fn angular_momentum(&mut self) -> f64 {
+        self.kinematics().momentum
     }
 
     /// Nodal fields of the current state.
@@ -471,21 +502,17 @@ impl Simulation {
     /// forces sit on the short hinge edge and are about a hundred times the nodal gravity forces;
     /// as a scale they would loosen the residual check for the whole body.)
     fn load_scale(&mut self, t: f64) -> f64 {
+        self.kinematics();
         let m = &self.model;
         self.scratch.resize(self.state.a.len(), 0.0);
-        m.pattern.sym_matvec(&m.mass.values, &self.state.a, &mut self.scratch);
+        m.mass.apply(&self.state.a, &mut self.scratch);
         let inertia = self.scratch.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         let gravity = m.gravity.load_gradient.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         let torque = m.applied_torque(t).abs();
         let mut driven = 0.0;
         if torque > 0.0 {
-            let turn: Vec<f64> = m
-                .positions(&self.state.u)
-                .chunks_exact(2)
-                .flat_map(|x| [-x[1], x[0]])
-                .collect();
-            m.pattern.sym_matvec(&m.mass.values, &turn, &mut self.scratch);
-            let largest = self.scratch.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            // M (e_z × x) = e_z × (M x): the nodal inertia forces of a unit angular acceleration
+            let largest = self.mx.iter().fold(0.0f64, |a, b| a.max(b.abs()));
             driven = torque / m.inertia_pivot() * largest;
         }
         (inertia + gravity + driven).max(1e-12)
@@ -493,18 +520,58 @@ impl Simulation {
 
     /// Best-fit angular velocity and acceleration of the current state \[rad/s, rad/s²\].
     pub fn angular_rates(&mut self) -> (f64, f64) {
-        if let Some(r) = self.rates {
-            return r;
+        let k = self.kinematics();
+        (k.omega, k.alpha)
+    }
+
+    /// Rigid-body measures of the current state (cached until the state changes). With
+    /// `m_x = M x` for the positions `x = X + u`: `∫ ρ t |x|² dA = x·m_x`, and since `M` is symmetric
+    /// and acts on both components alike, `Σ_ab M_ab x_a × w_b = Σ_b (m_x)_b × w_b` for any field `w`:
+    /// one mass product serves the angular velocity, the angular momentum and the angular
+    /// acceleration; a second one (`M v`) the kinetic energy.
+    fn kinematics(&mut self) -> Kinematics {
+        if let Some(k) = self.rates {
+            return k;
         }
         let m = &self.model;
         let x = m.positions(&self.state.u);
-        let mut mx = vec![0.0; x.len()];
-        m.pattern.sym_matvec(&m.mass.values, &x, &mut mx);
-        let polar: f64 = x.iter().zip(&mx).map(|(a, b)| a * b).sum();
-        let omega = moment_of(&m.pattern, &m.mass, &x, &self.state.v, &mut self.scratch) / polar;
-        let alpha = moment_of(&m.pattern, &m.mass, &x, &self.state.a, &mut self.scratch) / polar;
-        self.rates = Some((omega, alpha));
-        (omega, alpha)
+        self.mx.resize(x.len(), 0.0);
+        m.mass.apply(&x, &mut self.mx);
+        let mx = &self.mx;
+        let cross = |w: &[f64]| -> f64 {
+            (0..x.len() / 2)
+                .map(|b| mx[2 * b] * w[2 * b + 1] - mx[2 * b + 1] * w[2 * b])
+                .sum()
+        };
+        let polar: f64 = x.iter().zip(mx).map(|(a, b)| a * b).sum();
+        let momentum = cross(&self.state.v);
+        let alpha = if m.scheme == Scheme::EnergyMomentum && self.step > 0 {
+            // the consistent end-of-step value: the moment of the external loads at x (the strain
+            // energy's forces and the hinge force have none) over the polar moment of inertia
+            self.scratch.resize(x.len(), 0.0);
+            self.scratch.iter_mut().for_each(|g| *g = 0.0);
+            m.gravity.add_gradient(&self.state.u, self.state.t, &mut self.scratch);
+            for term in &m.extra_terms {
+                term.add_gradient(&self.state.u, self.state.t, &mut self.scratch);
+            }
+            let moment: f64 = (0..x.len() / 2)
+                .map(|a| x[2 * a + 1] * self.scratch[2 * a] - x[2 * a] * self.scratch[2 * a + 1])
+                .sum();
+            moment / polar
+        } else {
+            cross(&self.state.a) / polar
+        };
+        self.scratch.resize(x.len(), 0.0);
+        m.mass.apply(&self.state.v, &mut self.scratch);
+        let kinetic = 0.5 * self.state.v.iter().zip(&self.scratch).map(|(a, b)| a * b).sum::<f64>();
+        let k = Kinematics {
+            omega: momentum / polar,
+            alpha,
+            kinetic,
+            momentum,
+        };
+        self.rates = Some(k);
+        k
     }
 
     /// Starting guess of a step: the current configuration rotated rigidly about the pivot by
@@ -520,7 +587,12 @@ impl Simulation {
             Some((t_prev, a_prev)) if self.state.t > t_prev => (alpha - a_prev) / (self.state.t - t_prev),
             _ => 0.0,
         };
-        let phi = omega * dt + 0.5 * alpha * dt * dt + 0.25 * jerk * dt * dt * dt;
+        // Δt ω̄ with the mean rate ω̄ = ω + ½ α Δt + ¼ α̇ Δt² of the step
+        let mut phi = omega * dt + 0.5 * alpha * dt * dt + 0.25 * jerk * dt * dt * dt;
+        if self.model.scheme == Scheme::EnergyMomentum {
+            // the midpoint rule turns a rigid body along the chord: tan(Δφ/2) = Δt ω̄ / 2
+            phi = 2.0 * (0.5 * phi).atan();
+        }
         let (s, c) = phi.sin_cos();
         let u = &self.state.u;
         let mut guess = vec![0.0; u.len()];
@@ -532,7 +604,78 @@ impl Simulation {
         guess
     }
 
+    /// One energy-momentum step ([`crate::energy_momentum`]).
+    fn try_step_energy_momentum(&mut self, dt: f64) -> Result<(State, [f64; 2], usize), NewtonError> {
+        let mut u = self.rotational_guess(dt);
+        let (t0, t_new) = (self.state.t, self.state.t + dt);
+        let load_scale = self.load_scale(t_new);
+        let kinetic = self.kinematics().kinetic;
+        let m = &self.model;
+        for term in &m.extra_terms {
+            term.begin_step(&self.state.u, t0);
+        }
+        let u0 = &self.state.u;
+        let chi = m.config.time.dissipation;
+        let inertia = Inertia {
+            mass: &m.mass,
+            pattern: &m.pattern,
+            factor: EnergyMomentum::inertia_factor(dt),
+            predictor: EnergyMomentum::predictor(dt, &self.state),
+        };
+        let mut physical: Vec<(&dyn Term, f64)> = vec![(&m.elastic, 1.0 + chi), (&m.gravity, 1.0)];
+        physical.extend(m.extra_terms.iter().map(|t| (t.as_ref(), 1.0)));
+        let starts: Vec<Vec<f64>> = physical.iter().map(|(t, _)| t.discrete_start(u0, t0)).collect();
+        let discrete: Vec<DiscreteGradient> = physical
+            .iter()
+            .zip(&starts)
+            .map(|(&(term, hessian_factor), data)| DiscreteGradient {
+                term,
+                start: StepStart {
+                    u: u0,
+                    t: t0,
+                    data,
+                    dissipation: chi,
+                },
+                gradient_factor: 2.0,
+                hessian_factor,
+            })
+            .collect();
+        let mut terms: Vec<&dyn Term> = vec![&inertia];
+        terms.extend(discrete.iter().map(|t| t as &dyn Term));
+        // the doubled equation carries twice the hinge force
+        let mut lambda = self.lambda.map(|l| 2.0 * l);
+        let weight = m.gravity.load_gradient.iter().sum::<f64>();
+        let scale = crate::energy_momentum::energy_scale(kinetic, weight * m.length_scale(), m.applied_torque(t_new));
+        let energy_bound = m.config.solver.energy_tolerance * scale;
+        let settings = NewtonSettings {
+            tolerance: m.config.solver.tolerance,
+            max_iterations: m.config.solver.max_iterations,
+            residual_tolerance: RESIDUAL_TOLERANCE,
+            load_scale: 2.0 * load_scale,
+            length_scale: m.length_scale(),
+            frame_angle: m.projection.angle(&u),
+            matrix_key: EnergyMomentum::inertia_factor(dt) / (1.0 + chi),
+            reuse: true,
+            residual_turn: 0.5 * crate::newton::wrap_angle(m.projection.angle(&u) - m.projection.angle(u0)),
+        };
+        let report = self.solver.solve(
+            &m.pattern,
+            &terms,
+            t_new,
+            &mut u,
+            &mut lambda,
+            &settings,
+            Some((u0, energy_bound)),
+        )?;
+        let new_state = EnergyMomentum::correct(dt, &self.state, u);
+        self.total_factorizations += report.factorizations;
+        Ok((new_state, lambda.map(|l| 0.5 * l), report.iterations))
+    }
+
     fn try_step(&mut self, dt: f64) -> Result<(State, [f64; 2], usize), NewtonError> {
+        if self.model.scheme == Scheme::EnergyMomentum {
+            return self.try_step_energy_momentum(dt);
+        }
         let mut u = self.rotational_guess(dt);
         let t_new = self.state.t + dt;
         let load_scale = self.load_scale(t_new);
@@ -580,6 +723,7 @@ impl Simulation {
             frame_angle: m.projection.angle(&u),
             matrix_key: m.newmark.inertia_factor(dt) / (1.0 + alpha),
             reuse: true,
+            residual_turn: 0.0,
         };
         let report = self
             .solver
@@ -631,7 +775,11 @@ impl Simulation {
         let (omega, alpha) = self.angular_rates();
         let turn = omega.abs() * dt + 0.5 * alpha.abs() * dt * dt;
         let limit = self.model.config.time.max_rotation_deg.to_radians();
-        let substeps = ((turn / limit).ceil() as usize).max(1).next_power_of_two();
+        let substeps = if self.model.scheme == Scheme::EnergyMomentum {
+            1
+        } else {
+            ((turn / limit).ceil() as usize).max(1).next_power_of_two()
+        };
         let h = dt / substeps as f64;
         let mut its = 0;
         for _ in 0..substeps {

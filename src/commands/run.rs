@@ -86,6 +86,7 @@ pub fn csv_values(r: &StepRecord) -> Vec<f64> {
         r.newton_iterations as f64,
         r.torque,
         r.torque_work,
+        r.angular_momentum,
     ]
 }
 

@@ -11,17 +11,36 @@
 //!
 //! Element contributions are computed in parallel (rayon) in blocks and scattered serially into the
 //! fixed pattern, so the result does not depend on the number of threads.
+//!
+//! **Discrete gradient** (the energy-momentum scheme): over a step from `u₀` to `u₁`, per quadrature
+//! point, with `F_m = ½(F₀ + F₁)` and the discrete stress `S_d` of
+//! [`Material::discrete_stress`] (Gonzalez 2000), plus the optional dissipative stress
+//! `S_χ = (χ/2) (λ tr ΔE I + 2μ ΔE)`:
+//!
+//! ```text
+//! g_ai = Σ_q w Σ_j (F_m (S_d + S_χ))_ij ∂N_a/∂X_j
+//! ```
+//!
+//! Since `ΔE = ½(F_mᵀ ΔF + ΔFᵀ F_m)` exactly, `g · Δu = Σ_q w (S_d + S_χ) : ΔE
+//! = Π(u₁) − Π(u₀) + Σ_q w (χ/2) ΔE : ℂ₀ : ΔE`: the elastic forces do the work of the change of
+//! strain energy exactly, plus a non-negative dissipated part (`ℂ₀` the positive-definite
+//! isotropic tensor of the Lamé constants). `F_m S F_mᵀ` is
+//! symmetric, so the forces have no moment about the pivot at the mid-step positions: angular
+//! momentum is conserved. A rigid rotation of any size leaves `E` and therefore `S_d` unchanged.
 
 use rayon::prelude::*;
 
-use super::Term;
+use super::{StepStart, Term};
 use crate::assembly::{element_dofs, Pattern};
 use crate::fe::FeCache;
-use crate::material::{Material, StressTangent, VecF};
+use crate::material::{det, first_piola, green_strain, Material, StressTangent, VecF};
 use crate::Mesh;
 
 /// Elements per parallel block.
 const BLOCK: usize = 1024;
+
+/// Start-of-step values per quadrature point for the discrete gradient: `F₀` (4) and `E₀` (3).
+const START: usize = 7;
 
 /// The elastic strain energy of the whole body.
 #[derive(Clone, Debug)]
@@ -129,8 +148,44 @@ impl Elastic {
         (energy, g)
     }
 
-    /// Energy and gradient of the whole body, `g += ∂Π/∂u`.
-    fn run_gradient(&self, u: &[f64], g: &mut [f64]) -> f64 {
+    /// Discrete gradient of one element over a step (see the module doc); returns 0, or `+∞` when
+    /// an element is inverted at `u₁`.
+    fn element_discrete(&self, e: usize, start: &[f64], u1: &[f64], chi: f64) -> (f64, [f64; 12]) {
+        let nq = self.cache.points_per_element;
+        let m = &self.material;
+        let mut g = [0.0; 12];
+        for q in 0..nq {
+            let k = e * nq + q;
+            let grads = &self.cache.grads[k];
+            let w = self.cache.weights[k];
+            let f1 = deformation_gradient(&self.triangles[e], grads, u1);
+            if det(&f1) <= 0.0 {
+                return (f64::INFINITY, g);
+            }
+            let s0 = &start[k * START..(k + 1) * START];
+            let e0 = [s0[4], s0[5], s0[6]];
+            let e1 = green_strain(&f1);
+            let mut s = m.discrete_stress(&e0, &e1);
+            if chi > 0.0 {
+                let de = [e1[0] - e0[0], e1[1] - e0[1], e1[2] - e0[2]];
+                let (l, m2) = (0.5 * chi * m.lambda * (de[0] + de[1]), chi * m.mu);
+                s[0] += l + m2 * de[0];
+                s[1] += l + m2 * de[1];
+                s[2] += m2 * de[2];
+            }
+            let fm = [0, 1, 2, 3].map(|i| 0.5 * (s0[i] + f1[i]));
+            let p = first_piola(&fm, &s);
+            for (n, gn) in grads.iter().enumerate() {
+                g[2 * n] += w * (p[0] * gn[0] + p[1] * gn[1]);
+                g[2 * n + 1] += w * (p[2] * gn[0] + p[3] * gn[1]);
+            }
+        }
+        (0.0, g)
+    }
+
+    /// Runs an element kernel returning `(energy, gradient)` over all elements in parallel blocks
+    /// and adds `factor` times the gradients into `g` in element order; returns the energy.
+    fn gather(&self, factor: f64, g: &mut [f64], kernel: impl Fn(usize) -> (f64, [f64; 12]) + Sync) -> f64 {
         let ne = self.triangles.len();
         let mut energy = 0.0;
         let mut buffer: Vec<(f64, [f64; 12])> = Vec::new();
@@ -138,19 +193,21 @@ impl Elastic {
         while start < ne {
             let end = (start + 4 * BLOCK).min(ne);
             buffer.clear();
-            (start..end)
-                .into_par_iter()
-                .map(|e| self.element_gradient(e, u))
-                .collect_into_vec(&mut buffer);
+            (start..end).into_par_iter().map(&kernel).collect_into_vec(&mut buffer);
             for (i, (psi, ge)) in buffer.iter().enumerate() {
                 energy += psi;
                 for (d, gv) in element_dofs(&self.triangles[start + i]).iter().zip(ge.iter()) {
-                    g[*d] += gv;
+                    g[*d] += factor * gv;
                 }
             }
             start = end;
         }
         energy
+    }
+
+    /// Energy and gradient of the whole body, `g += ∂Π/∂u`.
+    fn run_gradient(&self, u: &[f64], g: &mut [f64]) -> f64 {
+        self.gather(1.0, g, |e| self.element_gradient(e, u))
     }
 
     /// Energy and tangent (and the gradient when `g` is given) of the whole body.
@@ -209,7 +266,7 @@ impl Term for Elastic {
                 let mut s = 0.0;
                 for q in 0..nq {
                     let f = self.deformation_gradient(e, q, u);
-                    s += self.cache.weights[e * nq + q] * self.material.energy_density(&f);
+                    s += self.cache.weights[e * nq + q] * self.material.energy(&f);
                 }
                 s
             })
@@ -230,5 +287,30 @@ impl Term for Elastic {
 
     fn assemble(&self, u: &[f64], _t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
         self.run(u, Some(g), pattern, values)
+    }
+
+    /// Per quadrature point `F₀` and `E₀`.
+    fn discrete_start(&self, u0: &[f64], _t0: f64) -> Vec<f64> {
+        let nq = self.cache.points_per_element;
+        let mut out = vec![0.0; self.cache.weights.len() * START];
+        out.par_chunks_mut(nq * START).enumerate().for_each(|(e, chunk)| {
+            for q in 0..nq {
+                let f = self.deformation_gradient(e, q, u0);
+                let c = &mut chunk[q * START..(q + 1) * START];
+                c[..4].copy_from_slice(&f);
+                c[4..7].copy_from_slice(&green_strain(&f));
+            }
+        });
+        out
+    }
+
+    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], _t1: f64, factor: f64, g: &mut [f64]) -> f64 {
+        let data = if start.data.len() == self.cache.weights.len() * START {
+            std::borrow::Cow::Borrowed(start.data)
+        } else {
+            std::borrow::Cow::Owned(self.discrete_start(start.u, start.t))
+        };
+        let chi = start.dissipation;
+        self.gather(factor, g, |e| self.element_discrete(e, &data, u1, chi))
     }
 }

@@ -9,6 +9,19 @@
 //!
 //! Energies are in joules, gradients in newtons, Hessians in N/m; `u` is the interleaved nodal
 //! displacement vector \[m\], `t` the time \[s\]. An energy of `+∞` marks an inadmissible state.
+//!
+//! **Discrete gradients.** The energy-momentum scheme ([`crate::energy_momentum`]) replaces the
+//! gradient at one end of a step by a *discrete gradient* `∇ᵈΠ(u₀, u₁)` over the step, with
+//!
+//! ```text
+//! ∇ᵈΠ(u₀, u₁) · (u₁ − u₀) = Π(u₁) − Π(u₀)        (directionality)
+//! ∇ᵈΠ(u, u) = ∇Π(u)                              (consistency)
+//! ```
+//!
+//! and, for the terms that are invariant under rotations about the pivot, a moment about the
+//! pivot of the forces `−∇ᵈΠ` taken at the mid-step positions that vanishes
+//! ([`Term::add_discrete_gradient`]). For a time-dependent external load (the torque) the first
+//! line reads `∇ᵈΠ · Δu = −W`, `W` the work of [`Term::external_work`].
 
 use crate::assembly::Pattern;
 
@@ -64,6 +77,31 @@ pub trait Term: Send + Sync {
     fn external_work(&self, _u0: &[f64], _t0: f64, _u1: &[f64], _t1: f64) -> f64 {
         0.0
     }
+
+    /// Data of the start of a step that [`Term::add_discrete_gradient`] reads on every call
+    /// (the elastic term's strains and energies at the quadrature points). Default: none.
+    fn discrete_start(&self, _u0: &[f64], _t0: f64) -> Vec<f64> {
+        Vec::new()
+    }
+
+    /// `g += factor · ∇ᵈΠ(u₀, u₁)`, a discrete gradient over the step from `start` to `(u1, t1)`
+    /// (see the module doc). Returns `+∞` for an inadmissible `u1`, otherwise a finite value:
+    /// `Π(u1, t1)` where that costs nothing extra, 0 where it would (the strain energy).
+    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64;
+}
+
+/// The start of a time step, as a discrete gradient needs it.
+#[derive(Clone, Copy, Debug)]
+pub struct StepStart<'a> {
+    /// Displacement at the start \[m\].
+    pub u: &'a [f64],
+    /// Time at the start \[s\].
+    pub t: f64,
+    /// What the term's [`Term::discrete_start`] returned for `(u, t)`.
+    pub data: &'a [f64],
+    /// Numerical dissipation `χ ∈ [0, 1)` of the strain energy (see [`crate::energy_momentum`]);
+    /// other terms ignore it.
+    pub dissipation: f64,
 }
 
 /// A term multiplied by a constant factor (the `(1 + α)` weight of HHT-α).
@@ -109,6 +147,14 @@ impl Term for Scaled<'_> {
         values.iter_mut().zip(&own_k).for_each(|(a, b)| *a += self.factor * b);
         self.factor * e
     }
+
+    fn discrete_start(&self, u0: &[f64], t0: f64) -> Vec<f64> {
+        self.term.discrete_start(u0, t0)
+    }
+
+    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64 {
+        self.factor * self.term.add_discrete_gradient(start, u1, t1, factor * self.factor, g)
+    }
 }
 
 /// A constant load as an energy, `Π = f·u` (d'Alembert forces of the initial rigid motion; the
@@ -132,4 +178,67 @@ impl Term for Linear {
     }
 
     fn add_hessian(&self, _u: &[f64], _t: f64, _pattern: &Pattern, _values: &mut [f64]) {}
+
+    /// A linear energy: the gradient itself.
+    fn add_discrete_gradient(&self, _start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64 {
+        g.iter_mut().zip(&self.gradient).for_each(|(gi, f)| *gi += factor * f);
+        self.energy(u1, t1)
+    }
+}
+
+/// A term's discrete gradient over one step as a term of the energy-momentum system
+/// ([`crate::energy_momentum`]): gradient `gradient_factor · ∇ᵈΠ(u₀, u)`, and as its approximate
+/// Jacobian `hessian_factor · ∇²Π(u)`. Its "energy" only flags inadmissible states (`+∞`): the
+/// energy-momentum system has no potential.
+pub struct DiscreteGradient<'a> {
+    /// The term.
+    pub term: &'a dyn Term,
+    /// The start of the step (with the term's own start data).
+    pub start: StepStart<'a>,
+    /// Factor of the discrete gradient.
+    pub gradient_factor: f64,
+    /// Factor of the Hessian at the current point.
+    pub hessian_factor: f64,
+}
+
+impl Term for DiscreteGradient<'_> {
+    fn name(&self) -> &'static str {
+        self.term.name()
+    }
+
+    fn energy(&self, u: &[f64], t: f64) -> f64 {
+        self.term.energy(u, t)
+    }
+
+    fn add_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) {
+        self.term
+            .add_discrete_gradient(&self.start, u, t, self.gradient_factor, g);
+    }
+
+    fn energy_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) -> f64 {
+        self.term
+            .add_discrete_gradient(&self.start, u, t, self.gradient_factor, g)
+    }
+
+    fn add_hessian(&self, u: &[f64], t: f64, pattern: &Pattern, values: &mut [f64]) {
+        if self.hessian_factor == 1.0 {
+            self.term.add_hessian(u, t, pattern, values);
+        } else {
+            let mut own = vec![0.0; values.len()];
+            self.term.add_hessian(u, t, pattern, &mut own);
+            values
+                .iter_mut()
+                .zip(&own)
+                .for_each(|(a, b)| *a += self.hessian_factor * b);
+        }
+    }
+
+    fn assemble(&self, u: &[f64], t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
+        self.add_hessian(u, t, pattern, values);
+        self.energy_gradient(u, t, g)
+    }
+
+    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64 {
+        self.term.add_discrete_gradient(start, u1, t1, factor, g)
+    }
 }

@@ -82,7 +82,7 @@
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::Term;
+use super::{StepStart, Term};
 use crate::assembly::Pattern;
 use crate::config;
 use crate::fe::for_each_edge_point;
@@ -555,6 +555,49 @@ impl Term for Torque {
 
     fn begin_step(&self, u: &[f64], _t: f64) {
         self.set_reference_angle(self.hub_angle(u));
+    }
+
+    /// Follower: `−M̄ ∇ᵈθ_hub` with `M̄ = ½(M(t₀) + M(t₁))` and the discrete gradient of the hub
+    /// angle in the plane of `z = (c, s)` (Gonzalez's formula for the polar angle):
+    /// `∇ᵈθ = ∇θ(z_m) + (Δθ − ∇θ(z_m)·Δz)/|Δz|² Δz`, `∇θ(z) = (−s, c)/|z|²`, so that
+    /// `∇ᵈθ · Δz = Δθ` and the work is exactly `M̄ Δθ_hub` ([`Torque::angle_work`]); then
+    /// `∂θ/∂u = a ∇c + b ∇s` as in [`HubAngle::gradient_local`]. Fixed direction: the mean of the
+    /// two end loads (work `½(f₀ + f₁)·Δu`).
+    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64 {
+        let u0 = start.u;
+        let m_mean = 0.5 * (self.profile.value(start.t) + self.profile.value(t1));
+        match self.mode {
+            TorqueMode::Fixed => {
+                let (f0, f1) = (self.local_force(u0, start.t), self.local_force(u1, t1));
+                for (k, &d) in self.dofs.iter().enumerate() {
+                    g[d] -= factor * 0.5 * (f0[k] + f1[k]);
+                }
+            }
+            TorqueMode::Follower => {
+                let (c0, s0) = self.hub.cos_sin(u0);
+                let (c1, s1) = self.hub.cos_sin(u1);
+                // the turn from z₀ to z₁, exact to rounding (no large absolute angles involved)
+                let dth = (c0 * s1 - s0 * c1).atan2(c0 * c1 + s0 * s1);
+                let (cm, sm) = (0.5 * (c0 + c1), 0.5 * (s0 + s1));
+                let rm2 = cm * cm + sm * sm;
+                let (mut a, mut b) = (-sm / rm2, cm / rm2);
+                let dz = [c1 - c0, s1 - s0];
+                let lin = a * dz[0] + b * dz[1];
+                let numerator = dth - lin;
+                let norm2 = dz[0] * dz[0] + dz[1] * dz[1];
+                if numerator.abs() > 64.0 * f64::EPSILON * (dth.abs() + lin.abs()) && norm2 > 0.0 {
+                    a += numerator / norm2 * dz[0];
+                    b += numerator / norm2 * dz[1];
+                }
+                for k in 0..self.hub.nodes.len() {
+                    let (wx, wy) = (self.hub.wx[k], self.hub.wy[k]);
+                    // ∇c = (wx, wy), ∇s = (−wy, wx)
+                    g[self.dofs[2 * k]] -= factor * m_mean * (a * wx - b * wy);
+                    g[self.dofs[2 * k + 1]] -= factor * m_mean * (a * wy + b * wx);
+                }
+            }
+        }
+        self.energy(u1, t1)
     }
 
     fn external_work(&self, u0: &[f64], t0: f64, u1: &[f64], t1: f64) -> f64 {
