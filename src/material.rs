@@ -85,10 +85,11 @@ pub fn first_piola(f: &VecF, s: &Sym) -> [f64; 4] {
 pub fn pow1p_minus_1(x: f64, a: f64) -> f64 {
     if x.abs() < 1e-3 {
         // a x (1 + (a−1)/2 x (1 + (a−2)/3 x (1 + … (1 + (a−5)/6 x))))
-        let mut t = 1.0;
-        for k in (1..6).rev() {
-            t = 1.0 + (a - k as f64) / (k as f64 + 1.0) * x * t;
-        }
+        let t = 1.0 + (a - 5.0) * (1.0 / 6.0) * x;
+        let t = 1.0 + (a - 4.0) * 0.2 * x * t;
+        let t = 1.0 + (a - 3.0) * 0.25 * x * t;
+        let t = 1.0 + (a - 2.0) * (1.0 / 3.0) * x * t;
+        let t = 1.0 + (a - 1.0) * 0.5 * x * t;
         a * x * t
     } else {
         (a * x.ln_1p()).exp_m1()
@@ -349,23 +350,26 @@ impl Material {
     /// `ψ` and `P` without the tangent (closed form for Neo-Hookean).
     #[allow(non_snake_case)]
     pub fn stress(&self, F: &VecF) -> (f64, [f64; 4]) {
-        let J = det(F);
-        if J <= 0.0 {
+        if det(F) <= 0.0 {
             return (f64::INFINITY, [0.0; 4]);
         }
+        let e = green_strain(F);
+        (self.strain_energy(&e).0, self.first_piola_of(F, &e))
+    }
+
+    /// `P` for an admissible `F` with its strain `e`: `μ (F − J^(−k−1) cof F)` (Neo-Hookean),
+    /// `F S(E)` (St. Venant–Kirchhoff).
+    #[allow(non_snake_case)]
+    fn first_piola_of(&self, F: &VecF, e: &Sym) -> [f64; 4] {
         match self.model {
             MaterialModel::NeoHookean => {
-                let (lambda, mu) = (self.lambda, self.mu);
-                let jk = 1.0 + pow1p_minus_1(J - 1.0, -lambda / mu);
-                let jk1 = jk / J;
+                let J = det(F);
+                let mu = self.mu;
+                let jk1 = (1.0 + pow1p_minus_1(J - 1.0, -self.lambda / mu)) / J;
                 let c = cofactor(F);
-                let energy = self.strain_energy(&green_strain(F)).0;
-                (energy, [0, 1, 2, 3].map(|v| mu * (F[v] - jk1 * c[v])))
+                [0, 1, 2, 3].map(|v| mu * (F[v] - jk1 * c[v]))
             }
-            MaterialModel::SaintVenantKirchhoff => {
-                let e = green_strain(F);
-                (self.strain_energy(&e).0, first_piola(F, &self.second_piola(&e)))
-            }
+            MaterialModel::SaintVenantKirchhoff => first_piola(F, &self.second_piola(e)),
         }
     }
 
@@ -377,7 +381,7 @@ impl Material {
         if J <= 0.0 {
             return ([f64::NAN; 3], f64::NAN);
         }
-        let P = self.stress(F).1;
+        let P = self.first_piola_of(F, &green_strain(F));
         // (P Fᵀ)_ij = Σ_K P_iK F_jK
         let s00 = (P[0] * F[0] + P[1] * F[1]) / J;
         let s11 = (P[2] * F[2] + P[3] * F[3]) / J;

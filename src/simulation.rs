@@ -31,6 +31,7 @@ use crate::energy_momentum::EnergyMomentum;
 use crate::error::NewtonError;
 use crate::fe::FeCache;
 use crate::io::Frame;
+use crate::linsolve::Cholesky;
 use crate::material::Material;
 use crate::newmark::{Newmark, State};
 use crate::newton::{NewtonSettings, Solver, Timings};
@@ -322,6 +323,9 @@ pub struct Simulation {
     rates: Option<Kinematics>,
     /// `M x` of the current positions (valid with `rates`).
     mx: Vec<f64>,
+    /// For [`Simulation::acceleration_field`]: the mass matrix factorised, the hinge rows and
+    /// `M⁻¹Cᵀ`, made on first use.
+    mass_solver: Option<(Cholesky, [Vec<f64>; 2], Vec<f64>)>,
 }
 
 /// Rigid-body measures of a state (see [`Simulation::kinematics`]).
@@ -356,6 +360,7 @@ impl Simulation {
             previous_alpha: None,
             rates: None,
             mx: Vec::new(),
+            mass_solver: None,
             model,
         };
         // The multipliers of the initial state from the balance of linear momentum:
@@ -484,16 +489,65 @@ impl Simulation {
     }
 
     /// Nodal fields of the current state.
-    pub fn frame_data(&self, theta: f64) -> FrameData {
+    pub fn frame_data(&mut self, theta: f64) -> FrameData {
+        let acceleration = pairs(&self.acceleration_field());
         FrameData {
             step: self.step,
             time: self.state.t,
             theta,
             displacement: pairs(&self.state.u),
             velocity: pairs(&self.state.v),
-            acceleration: pairs(&self.state.a),
+            acceleration,
             stress: self.model.stress.nodal(&self.model.material, &self.state.u),
         }
+    }
+
+    /// The nodal acceleration of the current state \[m/s²\]. The Newmark schemes carry it in the
+    /// state. The energy-momentum scheme does not need one (it keeps the step's mean acceleration
+    /// as a load scale); here the consistent value at the end of the step is solved from the
+    /// equation of motion, `M a = −∇Π(u, t) − Cᵀμ`, `C a = 0`, with a Cholesky factorisation of the
+    /// mass matrix made on the first call (on request only: frames, not every step).
+    pub fn acceleration_field(&mut self) -> Vec<f64> {
+        if self.model.scheme != Scheme::EnergyMomentum || self.step == 0 {
+            return self.state.a.clone();
+        }
+        if self.mass_solver.is_none() {
+            let m = &self.model;
+            let mut chol = Cholesky::new(&m.pattern).expect("the symbolic analysis succeeded at set-up");
+            chol.factor(&m.pattern, &m.mass.values)
+                .expect("a consistent mass matrix is positive definite");
+            let n = m.pattern.n;
+            let rows = m.hinge.dense_rows(n);
+            let mut columns = [rows[0].clone(), rows[1].clone()].concat();
+            chol.solve_in_place(&mut columns);
+            self.mass_solver = Some((chol, rows, columns));
+        }
+        let m = &self.model;
+        let (s, t) = (&self.state, self.state.t);
+        let mut force = vec![0.0; s.u.len()];
+        m.elastic.add_gradient(&s.u, t, &mut force);
+        m.gravity.add_gradient(&s.u, t, &mut force);
+        for term in &m.extra_terms {
+            term.add_gradient(&s.u, t, &mut force);
+        }
+        force.iter_mut().for_each(|f| *f = -*f);
+        let (chol, rows, columns) = self.mass_solver.as_mut().expect("made above");
+        chol.solve_in_place(&mut force);
+        // C (y − Z μ) = 0 with Z = M⁻¹Cᵀ: a 2×2 system for μ
+        let n = force.len();
+        let (zx, zy) = columns.split_at(n);
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let sm = [
+            [dot(&rows[0], zx), dot(&rows[0], zy)],
+            [dot(&rows[1], zx), dot(&rows[1], zy)],
+        ];
+        let b = [dot(&rows[0], &force), dot(&rows[1], &force)];
+        let det = sm[0][0] * sm[1][1] - sm[0][1] * sm[1][0];
+        let mu = [
+            (b[0] * sm[1][1] - b[1] * sm[0][1]) / det,
+            (sm[0][0] * b[1] - sm[1][0] * b[0]) / det,
+        ];
+        (0..n).map(|i| force[i] - zx[i] * mu[0] - zy[i] * mu[1]).collect()
     }
 
     /// The largest nodal applied force: gravity, the inertia force `M a` of the current state, and for

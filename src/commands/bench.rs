@@ -1,9 +1,10 @@
 //! `pendulum-fem bench`: measured speed and memory (benchmarks, never timed unit tests).
 //!
 //! * `run`: the whole default job (mesh, 100 steps, post-processing, `results.csv`) repeated, with
-//!   a breakdown per Newton iteration (assembly, factorisation, solve); with `--ngsolve PYTHON` the
-//!   NGSolve tutorial script (`shared/anchors/ngsolve_tutorial.py --post 1 --energy 0`) is run in the
-//!   same session and the ratio of wall times is printed.
+//!   a breakdown per Newton iteration (assembly, factorisation, solve), for the configured scheme
+//!   and the other family for comparison; with `--ngsolve PYTHON` the NGSolve tutorial script
+//!   (`--anchor`, default `../shared/anchors/ngsolve_tutorial.py`) is run tuned and as written in the
+//!   same session and the ratios of wall times are printed.
 //! * `scaling`: time per step at about 5k, 20k, 80k and 320k unknowns (all mesh sizes scaled by a
 //!   common factor found by probing the mesher).
 //! * `mesh`: the tutorial mesh (best of 10) and a mesh of about `--triangles` triangles.
@@ -14,6 +15,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::commands::run::{run_with, RunOptions, RunSummary};
+use crate::config::Scheme;
 use crate::mesh::bench::scaled_config;
 use crate::simulation::Simulation;
 use crate::{mesh, Config, Error};
@@ -46,13 +48,13 @@ pub fn time_default_run(cfg: &Config) -> Result<RunSummary, Error> {
     s
 }
 
-/// `bench run`: repeats the default run, prints the best and the breakdown; optionally runs NGSolve.
-pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, anchor: &Path) -> Result<(), Error> {
+/// Repeats the run of `cfg` and returns the fastest.
+fn best_run(cfg: &Config, repeats: usize) -> Result<RunSummary, Error> {
     let mut best: Option<RunSummary> = None;
     for i in 0..repeats.max(1) {
         let s = time_default_run(cfg)?;
         println!(
-            "run {}: total {:.3} s (mesh {:.4} s, set-up {:.4} s, steps+post+csv {:.3} s), {} Newton iterations",
+            "  run {}: total {:.3} s (mesh {:.4} s, set-up {:.4} s, steps+post+csv {:.3} s), {} Newton iterations",
             i + 1,
             s.seconds_total,
             s.seconds_mesh,
@@ -64,53 +66,111 @@ pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, an
             best = Some(s);
         }
     }
-    let s = best.expect("at least one run");
+    Ok(best.expect("at least one run"))
+}
+
+/// Prints the best run and its breakdown per Newton iteration.
+fn print_breakdown(s: &RunSummary, repeats: usize) {
     let t = s.timings;
     let its = s.newton_iterations.max(1) as f64;
     println!(
-        "best of {repeats}: {:.3} s for {} steps, {} unknowns",
-        s.seconds_total, s.steps, s.unknowns
+        "  best of {repeats}: {:.3} s for {} steps, {} unknowns; {:.2} Newton iterations per step, {} factorisations",
+        s.seconds_total,
+        s.steps,
+        s.unknowns,
+        its / s.steps.max(1) as f64,
+        s.factorizations
     );
+    println!("  per Newton iteration:");
     println!(
-        "per Newton iteration ({} iterations, {} factorisations):",
-        s.newton_iterations, s.factorizations
-    );
-    println!(
-        "  assembly (energy, gradient, tangent) {:.3} ms",
+        "    assembly (energy, gradient, tangent) {:.3} ms",
         1e3 * t.assembly / its
     );
     println!(
-        "  numeric factorisation               {:.3} ms",
+        "    numeric factorisation               {:.3} ms",
         1e3 * t.factorization / its
     );
-    println!("  solves + Schur complement           {:.3} ms", 1e3 * t.solve / its);
-    println!("  gradient evaluations (no tangent)   {:.3} ms", 1e3 * t.residual / its);
+    println!("    solves + Schur complement           {:.3} ms", 1e3 * t.solve / its);
     println!(
-        "  line search                         {:.3} ms",
+        "    gradient evaluations (no tangent)   {:.3} ms",
+        1e3 * t.residual / its
+    );
+    println!(
+        "    line search                         {:.3} ms",
         1e3 * t.line_search / its
     );
+    let newton = t.assembly + t.factorization + t.solve + t.residual + t.line_search;
     println!(
-        "totals: assembly {:.3} s, factorisation {:.3} s, solve {:.3} s, residual {:.3} s",
-        t.assembly, t.factorization, t.solve, t.residual
+        "  totals: assembly {:.3} s, factorisation {:.3} s, solve {:.3} s, gradients {:.3} s; outside Newton \
+         (set-up, predictor, post-processing, CSV) {:.3} s",
+        t.assembly,
+        t.factorization,
+        t.solve,
+        t.residual,
+        s.seconds_total - newton
     );
+}
+
+/// Runs the NGSolve script with `args` and returns its wall time (process start to exit) \[s\].
+fn time_ngsolve(python: &Path, anchor: &Path, args: &[&str]) -> Result<f64, Error> {
+    let start = Instant::now();
+    let out = std::process::Command::new(python)
+        .arg(anchor)
+        .args(args)
+        .output()
+        .map_err(|e| Error::io(python, e))?;
+    let seconds = start.elapsed().as_secs_f64();
+    if !out.status.success() {
+        return Err(Error::Input(format!(
+            "NGSolve script {} {} failed: {}",
+            anchor.display(),
+            args.join(" "),
+            String::from_utf8_lossy(&out.stderr)
+        )));
+    }
+    Ok(seconds)
+}
+
+/// `bench run`: the run of `cfg` with its scheme and, for comparison, with the other family
+/// (energy-momentum against trapezoidal), each repeated, best reported with its breakdown;
+/// optionally the NGSolve tutorial script, tuned (`--post 0 --energy 0 --compile 1 --threads 2`:
+/// compiled Variation, TaskManager, two threads) and as written (`--post 1 --energy 0`), in the
+/// same session, with the ratios of wall times.
+pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, anchor: &Path) -> Result<(), Error> {
+    if ngsolve_python.is_some() && !anchor.is_file() {
+        return Err(Error::Input(format!(
+            "--anchor {}: the NGSolve tutorial script is not there (give its path with --anchor)",
+            anchor.display()
+        )));
+    }
+    let other = match cfg.time.scheme {
+        Scheme::EnergyMomentum => Scheme::Trapezoidal,
+        _ => Scheme::EnergyMomentum,
+    };
+    println!("scheme {:?} (the configuration's):", cfg.time.scheme);
+    let s = best_run(cfg, repeats)?;
+    print_breakdown(&s, repeats);
+    let mut other_cfg = cfg.clone();
+    other_cfg.time.scheme = other;
+    println!("scheme {other:?} (for comparison):");
+    let o = best_run(&other_cfg, repeats)?;
+    print_breakdown(&o, repeats);
     if let Some(python) = ngsolve_python {
-        let start = Instant::now();
-        let out = std::process::Command::new(python)
-            .arg(anchor)
-            .args(["--post", "1", "--energy", "0"])
-            .output()
-            .map_err(|e| Error::io(python, e))?;
-        let ngs = start.elapsed().as_secs_f64();
-        if !out.status.success() {
-            return Err(Error::Input(format!(
-                "NGSolve script {} failed: {}",
-                anchor.display(),
-                String::from_utf8_lossy(&out.stderr)
-            )));
-        }
-        print!("{}", String::from_utf8_lossy(&out.stdout));
-        println!("NGSolve tutorial script: {ngs:.3} s wall (process start to exit)");
-        println!("speed ratio NGSolve / pendulum-fem: {:.1}", ngs / s.seconds_total);
+        let tuned = time_ngsolve(
+            python,
+            anchor,
+            &["--post", "0", "--energy", "0", "--compile", "1", "--threads", "2"],
+        )?;
+        let written = time_ngsolve(python, anchor, &["--post", "1", "--energy", "0"])?;
+        println!("NGSolve tutorial script, tuned (--post 0 --energy 0 --compile 1 --threads 2): {tuned:.3} s wall");
+        println!("NGSolve tutorial script as written (--post 1 --energy 0): {written:.3} s wall");
+        println!(
+            "speed ratio NGSolve / pendulum-fem ({:?}, {:.3} s): tuned {:.1}, as written {:.1}",
+            cfg.time.scheme,
+            s.seconds_total,
+            tuned / s.seconds_total,
+            written / s.seconds_total
+        );
     }
     Ok(())
 }
