@@ -402,8 +402,12 @@ impl Default for Torque {
 pub struct Output {
     /// Output folder; each run gets a fresh subfolder unless `--out` names one.
     pub dir: PathBuf,
-    /// Write every n-th step to the frame outputs (ParaView, animation, viewer).
+    /// Offer every n-th step to the animations and the viewer (the last step is always offered);
+    /// also the ParaView thinning unless `paraview_every` is set.
     pub every: usize,
+    /// Write every n-th step as a ParaView frame (the last step is always written); `None`: as
+    /// `every`.
+    pub paraview_every: Option<usize>,
     /// Magnification of the elastic part of the displacement in pictures; `None`: automatic.
     pub magnification: Option<f64>,
     /// Write `theta.png` and `energy.png`.
@@ -416,6 +420,16 @@ pub struct Output {
     pub viewer: bool,
     /// Upper bound on frames in the animations and the viewer (frames are thinned to fit).
     pub max_frames: usize,
+    /// The run stops with an error when the energy error (energy change minus the work of the
+    /// torque, over the energy scale) exceeds this fraction; 0 switches the watchdog off.
+    pub energy_watchdog: f64,
+}
+
+impl Output {
+    /// The ParaView thinning: `paraview_every`, or `every` when that is not set.
+    pub fn paraview_stride(&self) -> usize {
+        self.paraview_every.unwrap_or(self.every).max(1)
+    }
 }
 
 impl Default for Output {
@@ -423,12 +437,14 @@ impl Default for Output {
         Self {
             dir: PathBuf::from("results"),
             every: 1,
+            paraview_every: None,
             magnification: None,
             plots: true,
             animation: true,
             paraview: true,
             viewer: true,
             max_frames: 200,
+            energy_watchdog: 0.01,
         }
     }
 }
@@ -637,6 +653,16 @@ impl Config {
         if o.every == 0 {
             return Err(Error::Config("output.every = 0: allowed range 1 and up".into()));
         }
+        if o.paraview_every == Some(0) {
+            return Err(Error::Config(
+                "output.paraview_every = 0: allowed range 1 and up (output.paraview = false writes no frames)".into(),
+            ));
+        }
+        non_negative(
+            "output.energy_watchdog",
+            o.energy_watchdog,
+            "(a fraction of the energy scale; 0: off)",
+        )?;
         if let Some(mag) = o.magnification {
             if !(mag >= 0.0 && mag.is_finite()) {
                 return Err(range(

@@ -134,6 +134,11 @@ pub fn run_with_outputs(
     };
     let o = &cfg.output;
     let wants_frames = frames && (o.paraview || o.animation || o.viewer);
+    if frames && o.paraview {
+        if let Some(warning) = output_size_warning(cfg, &sim.model.mesh) {
+            eprintln!("{warning}");
+        }
+    }
     let mut writers = match frames {
         true => Some(FrameWriter::start(FrameWriters::new(
             &out_dir,
@@ -149,7 +154,6 @@ pub fn run_with_outputs(
         ProgressMode::detect(false)
     };
     let mut progress = Progress::new(cfg.time.steps(), mode);
-    let every = cfg.output.every;
     let mut seconds_outputs = 0.0;
     let mut period = PeriodEstimator::default();
     let (mut e0, mut kin_max, mut drift) = (None, 0.0f64, 0.0f64);
@@ -158,9 +162,9 @@ pub fn run_with_outputs(
     loop {
         csv.row(&csv_values(&record))?;
         if let Some(w) = writers.as_mut() {
-            if wants_frames && record.step.is_multiple_of(every) {
+            if wants_frames && w.wants(record.step) {
                 let t_out = Instant::now();
-                w.send(sim.frame_data(record.theta))?;
+                w.send(sim.frame_data(record.theta), false)?;
                 seconds_outputs += t_out.elapsed().as_secs_f64();
             }
         }
@@ -178,6 +182,11 @@ pub fn run_with_outputs(
             break;
         }
         record = sim.advance()?;
+    }
+    if let (true, Some(w)) = (wants_frames, writers.as_mut()) {
+        let t_out = Instant::now();
+        w.send(sim.frame_data(record.theta), true)?;
+        seconds_outputs += t_out.elapsed().as_secs_f64();
     }
     summary.files.push(csv.finish()?);
     progress.finish();
@@ -201,12 +210,37 @@ pub fn run_with_outputs(
     Ok(summary)
 }
 
+/// Estimated output above which a run warns before it starts \[bytes\].
+pub const LARGE_OUTPUT_BYTES: u64 = 1_000_000_000;
+
+/// A warning naming the estimated size of the ParaView frames when it exceeds
+/// [`LARGE_OUTPUT_BYTES`], with the keys that reduce it; `None` below.
+pub fn output_size_warning(cfg: &crate::Config, mesh: &crate::Mesh) -> Option<String> {
+    let steps = cfg.time.steps();
+    let stride = cfg.output.paraview_stride();
+    let frames = (steps / stride + 2) as u64;
+    let per_frame = crate::io::pvd::estimated_frame_bytes(mesh);
+    let total = frames * per_frame;
+    (total > LARGE_OUTPUT_BYTES).then(|| {
+        let suggested = (total / (LARGE_OUTPUT_BYTES / 2)).max(2) * stride as u64;
+        format!(
+            "warning: this run will write about {:.1} GB of ParaView frames ({frames} frames of about {:.2} MB); \
+             set output.paraview_every = {suggested} (or more) or output.paraview = false to write less",
+            total as f64 / 1e9,
+            per_frame as f64 / 1e6
+        )
+    })
+}
+
 /// Frame outputs written on a thread of their own, so that serialising ParaView files and keeping
 /// frames for the pictures overlaps the time stepping. The channel holds at most
 /// [`FRAME_QUEUE`] frames, so memory stays bounded when the writer falls behind.
 struct FrameWriter {
-    sender: Option<std::sync::mpsc::SyncSender<crate::simulation::FrameData>>,
+    /// Frames and whether each is the run's last.
+    sender: Option<std::sync::mpsc::SyncSender<(crate::simulation::FrameData, bool)>>,
     handle: Option<std::thread::JoinHandle<Result<FrameWriters, Error>>>,
+    /// The thinning of the writers (they live on the thread).
+    wants: crate::io::writers::Thinning,
 }
 
 /// Frames waiting for the writer thread at most.
@@ -214,22 +248,38 @@ const FRAME_QUEUE: usize = 4;
 
 impl FrameWriter {
     fn start(mut writers: FrameWriters) -> Self {
-        let (sender, receiver) = std::sync::mpsc::sync_channel::<crate::simulation::FrameData>(FRAME_QUEUE);
+        let wants = writers.clone_thinning();
+        let (sender, receiver) = std::sync::mpsc::sync_channel::<(crate::simulation::FrameData, bool)>(FRAME_QUEUE);
         let handle = std::thread::spawn(move || {
-            for data in receiver {
-                writers.frame(&data.as_frame())?;
+            for (data, last) in receiver {
+                if last {
+                    writers.last_frame(&data.as_frame())?;
+                } else {
+                    writers.frame(&data.as_frame())?;
+                }
             }
             Ok(writers)
         });
         Self {
             sender: Some(sender),
             handle: Some(handle),
+            wants,
         }
     }
 
-    /// Queues a frame; if the writer thread has stopped with an error, returns that error.
-    fn send(&mut self, data: crate::simulation::FrameData) -> Result<(), Error> {
-        let sent = self.sender.as_ref().map(|s| s.send(data).is_ok()).unwrap_or(false);
+    /// Whether the writers take a frame of `step` (see [`FrameWriters::wants`]).
+    fn wants(&self, step: usize) -> bool {
+        self.wants.wants(step)
+    }
+
+    /// Queues a frame (`last`: the last state of the run); if the writer thread has stopped with an
+    /// error, returns that error.
+    fn send(&mut self, data: crate::simulation::FrameData, last: bool) -> Result<(), Error> {
+        let sent = self
+            .sender
+            .as_ref()
+            .map(|s| s.send((data, last)).is_ok())
+            .unwrap_or(false);
         if sent {
             return Ok(());
         }
