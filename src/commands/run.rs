@@ -1,6 +1,10 @@
-//! `pendulum-fem run`: mesh, simulate, stream `results.csv`, summarise.
+//! `pendulum-fem run`: mesh, simulate, stream `results.csv`, summarise, and leave a consistent run
+//! folder however the run ends (completed, interrupted at a step boundary, or failed; see
+//! [`run_with_outputs`]).
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 use crate::io::csv::CsvWriter;
@@ -21,6 +25,9 @@ pub struct RunOptions {
     pub force: bool,
     /// No progress output.
     pub quiet: bool,
+    /// When set (by a Ctrl-C or SIGTERM handler), the run stops at the next step boundary and
+    /// finishes its outputs with what was computed ([`RunEnd::Interrupted`]).
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 /// Figures of a finished run.
@@ -36,8 +43,12 @@ pub struct RunSummary {
     pub mesh_nodes: usize,
     /// Unknowns (displacements + 2 multipliers).
     pub unknowns: usize,
+    /// How the run ended.
+    pub end: RunEnd,
     /// Steps computed.
     pub steps: usize,
+    /// Time of the last state computed \[s\].
+    pub time_reached: f64,
     /// Newton iterations (linear solves) over all steps.
     pub newton_iterations: usize,
     /// Numeric factorisations over the run.
@@ -106,13 +117,55 @@ pub fn run_with(
     run_with_outputs(opts, out_dir, false, observe)
 }
 
+/// How a run ended.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RunEnd {
+    /// Reached `time.end`.
+    #[default]
+    Completed,
+    /// Stopped at a step boundary because [`RunOptions::stop`] was set (Ctrl-C, SIGTERM).
+    Interrupted,
+}
+
 /// Runs the simulation into `out_dir`; with `frames` also the ParaView files, animations, plots
 /// and the viewer (as `output.*` selects).
+///
+/// Whatever happens, the folder stays consistent: `status.json` says `"running"` from the start
+/// and `"ok"`, `"interrupted"` or `"failed"` (with the error) at the end, with the last step and
+/// time reached. When a step fails or the run is interrupted, `results.csv` is complete up to the
+/// last step computed, that step is written as the last frame, and the plots, animations and
+/// viewer show what was computed; a failure is then returned as the error.
 pub fn run_with_outputs(
     opts: &RunOptions,
     out_dir: PathBuf,
     frames: bool,
+    observe: impl FnMut(&Simulation, &StepRecord) -> Result<(), Error>,
+) -> Result<RunSummary, Error> {
+    let status_path = out_dir.join(crate::io::status::STATUS_JSON);
+    let end_time = opts.config.time.end;
+    crate::io::status::RunStatus::running(end_time).write(&status_path)?;
+    let mut reached = None;
+    let result = run_steps(opts, out_dir, frames, observe, &mut reached);
+    let status = match &result {
+        Ok(s) if s.end == RunEnd::Interrupted => crate::io::status::RunStatus::interrupted(end_time, reached),
+        Ok(_) => crate::io::status::RunStatus::ok(end_time, reached),
+        Err(e) => crate::io::status::RunStatus::failed(end_time, reached, e),
+    };
+    // A run that failed reports its own error, not a failure to write the status.
+    let written = status.write(&status_path);
+    let mut summary = result?;
+    written?;
+    summary.files.push(status_path);
+    Ok(summary)
+}
+
+/// The run proper; `reached` follows the last step written to `results.csv` (step, time).
+fn run_steps(
+    opts: &RunOptions,
+    out_dir: PathBuf,
+    frames: bool,
     mut observe: impl FnMut(&Simulation, &StepRecord) -> Result<(), Error>,
+    reached: &mut Option<(usize, f64)>,
 ) -> Result<RunSummary, Error> {
     let start = Instant::now();
     let cfg = &opts.config;
@@ -158,17 +211,27 @@ pub fn run_with_outputs(
     let mut period = PeriodEstimator::default();
     let (mut e0, mut kin_max, mut drift) = (None, 0.0f64, 0.0f64);
     let steps = cfg.time.steps();
+    let stop_requested = || opts.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst));
     let mut record = sim.record(0);
-    loop {
-        csv.row(&csv_values(&record))?;
+    // The loop ends with `Ok(())` (completed or interrupted) or the error that stopped it; the
+    // outputs of what was computed are finished either way.
+    let stopped: Result<(), Error> = loop {
+        if let Err(e) = csv.row(&csv_values(&record)) {
+            break Err(e);
+        }
+        *reached = Some((record.step, record.time));
         if let Some(w) = writers.as_mut() {
             if wants_frames && w.wants(record.step) {
                 let t_out = Instant::now();
-                w.send(sim.frame_data(record.theta), false)?;
+                if let Err(e) = w.send(sim.frame_data(record.theta), false) {
+                    break Err(e);
+                }
                 seconds_outputs += t_out.elapsed().as_secs_f64();
             }
         }
-        observe(&sim, &record)?;
+        if let Err(e) = observe(&sim, &record) {
+            break Err(e);
+        }
         progress.update(record.step, record.time, sim.total_iterations);
         period.push(record.time, record.theta);
         summary.theta_range.0 = summary.theta_range.0.min(record.theta);
@@ -179,24 +242,49 @@ pub fn run_with_outputs(
         drift = drift.max((record.total - e_ref).abs());
         summary.theta_final = record.theta;
         if sim.step >= steps {
-            break;
+            break Ok(());
         }
-        record = sim.advance()?;
-    }
+        if stop_requested() {
+            summary.end = RunEnd::Interrupted;
+            break Ok(());
+        }
+        match sim.advance() {
+            Ok(r) => record = r,
+            Err(e) => break Err(e),
+        }
+    };
+    progress.finish();
+    // Finish every output with what was computed; the first error wins.
+    let mut first_error = stopped.err();
     if let (true, Some(w)) = (wants_frames, writers.as_mut()) {
         let t_out = Instant::now();
-        w.send(sim.frame_data(record.theta), true)?;
+        if let Err(e) = w.send(sim.frame_data(record.theta), true) {
+            first_error.get_or_insert(e);
+        }
         seconds_outputs += t_out.elapsed().as_secs_f64();
     }
-    summary.files.push(csv.finish()?);
-    progress.finish();
+    match csv.finish() {
+        Ok(path) => summary.files.push(path),
+        Err(e) => {
+            first_error.get_or_insert(e);
+        }
+    }
     if let Some(w) = writers {
         let t_out = Instant::now();
-        summary.files.extend(w.finish()?);
+        match w.finish() {
+            Ok(paths) => summary.files.extend(paths),
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
         seconds_outputs += t_out.elapsed().as_secs_f64();
+    }
+    if let Some(e) = first_error {
+        return Err(e);
     }
     summary.seconds_outputs = seconds_outputs;
     summary.steps = sim.step;
+    summary.time_reached = sim.state.t;
     summary.newton_iterations = sim.total_iterations;
     summary.factorizations = sim.total_factorizations;
     summary.cutbacks = sim.cutbacks;

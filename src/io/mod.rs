@@ -8,6 +8,7 @@ pub mod outdir;
 pub mod plot;
 pub mod pvd;
 mod raster;
+pub mod status;
 pub mod viewer;
 pub mod vtm;
 pub mod vtu;
