@@ -160,8 +160,8 @@ fn print_summary(s: &RunSummary) {
     }
     println!("  max von Mises      {:.4e} Pa", s.von_mises_max);
     println!(
-        "  energy drift       {:.3e} of the largest kinetic energy",
-        s.energy_drift
+        "  energy error       {:.3e} of the energy scale {:.4e} J (max |energy change - torque work|)",
+        s.energy_error, s.energy_scale
     );
     println!("  writing outputs    {:.3} s of the wall time", s.seconds_outputs);
     println!("  results in         {}", s.out_dir.display());

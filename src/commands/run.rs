@@ -63,8 +63,11 @@ pub struct RunSummary {
     pub period: Option<f64>,
     /// Largest von Mises stress over the run \[Pa\].
     pub von_mises_max: f64,
-    /// Largest |E(t) − E(0)| divided by the largest kinetic energy.
-    pub energy_drift: f64,
+    /// Largest energy error over the run, `max |E(t) − E(0) − W(t)| / energy_scale` (see
+    /// [`EnergyAudit`]).
+    pub energy_error: f64,
+    /// The energy scale of the run \[J\] (see [`EnergyAudit`]).
+    pub energy_scale: f64,
     /// Wall time: meshing \[s\].
     pub seconds_mesh: f64,
     /// Wall time: set-up (operators, symbolic factorisation) \[s\].
@@ -209,7 +212,7 @@ fn run_steps(
     let mut progress = Progress::new(cfg.time.steps(), mode);
     let mut seconds_outputs = 0.0;
     let mut period = PeriodEstimator::default();
-    let (mut e0, mut kin_max, mut drift) = (None, 0.0f64, 0.0f64);
+    let mut audit = EnergyAudit::new(EnergyAudit::floor_of(&sim.model));
     let steps = cfg.time.steps();
     let stop_requested = || opts.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst));
     let mut record = sim.record(0);
@@ -237,10 +240,11 @@ fn run_steps(
         summary.theta_range.0 = summary.theta_range.0.min(record.theta);
         summary.theta_range.1 = summary.theta_range.1.max(record.theta);
         summary.von_mises_max = summary.von_mises_max.max(record.von_mises_max);
-        let e_ref = *e0.get_or_insert(record.total);
-        kin_max = kin_max.max(record.kinetic);
-        drift = drift.max((record.total - e_ref).abs());
         summary.theta_final = record.theta;
+        let error = audit.push(&record);
+        if cfg.output.energy_watchdog > 0.0 && error > cfg.output.energy_watchdog {
+            break Err(audit.divergence(&record, cfg.output.energy_watchdog));
+        }
         if sim.step >= steps {
             break Ok(());
         }
@@ -289,13 +293,109 @@ fn run_steps(
     summary.factorizations = sim.total_factorizations;
     summary.cutbacks = sim.cutbacks;
     summary.period = period.period();
-    summary.energy_drift = if kin_max > 0.0 { drift / kin_max } else { 0.0 };
+    summary.energy_error = audit.error();
+    summary.energy_scale = audit.scale();
     summary.timings = sim.timings();
     summary.seconds_mesh = seconds_mesh;
     summary.seconds_setup = seconds_setup;
     summary.seconds_steps = t_steps.elapsed().as_secs_f64();
     summary.seconds_total = start.elapsed().as_secs_f64();
     Ok(summary)
+}
+
+/// The energy balance of a run, fed one [`StepRecord`] at a time.
+///
+/// The **energy error** at step n is `|ΔE − W| / scale`, with `ΔE = E_total(tₙ) − E_total(0)` and
+/// `W` the work of the torque up to tₙ (`torque_work_J`): without external work the total energy is
+/// conserved, so whatever remains is the integrator's (or a divergence's) doing. The **energy
+/// scale** is the largest of: the largest kinetic energy, the largest changes of the gravitational
+/// and of the strain energy, the largest |W|, and a floor of `10⁻³ m g₀ L` (`m` the mass, `L` the
+/// largest distance of a node from the pivot, `g₀ = 9.81 m/s²` even when `gravity.g = 0`: a
+/// thousandth of the work to lift the body by its own length), so the scale is never near zero,
+/// also for a body that barely moves. The scale grows with the run: the watchdog judges step n with
+/// the scale up to n, [`EnergyAudit::error`] the whole run with the final scale.
+#[derive(Clone, Debug)]
+pub struct EnergyAudit {
+    first: Option<StepRecord>,
+    floor: f64,
+    scale: f64,
+    /// Largest `|ΔE − W|` \[J\].
+    largest_defect: f64,
+}
+
+/// `g₀` of the energy floor \[m/s²\].
+const STANDARD_GRAVITY: f64 = 9.81;
+
+impl EnergyAudit {
+    /// An audit with the given floor of the energy scale \[J\].
+    pub fn new(floor: f64) -> Self {
+        Self {
+            first: None,
+            floor,
+            scale: floor,
+            largest_defect: 0.0,
+        }
+    }
+
+    /// The floor `10⁻³ m g₀ L` of a model \[J\].
+    pub fn floor_of(model: &crate::simulation::Model) -> f64 {
+        1e-3 * model.mass_kg() * STANDARD_GRAVITY * model.length_scale()
+    }
+
+    /// Takes the next record; returns its energy error judged with the scale so far.
+    pub fn push(&mut self, r: &StepRecord) -> f64 {
+        let first = self.first.get_or_insert_with(|| r.clone());
+        let changes = [
+            r.kinetic,
+            first.kinetic,
+            (r.gravity - first.gravity).abs(),
+            (r.strain - first.strain).abs(),
+            r.torque_work.abs(),
+        ];
+        self.scale = changes.into_iter().fold(self.scale, f64::max);
+        let defect = (r.total - first.total - r.torque_work).abs();
+        self.largest_defect = self.largest_defect.max(defect);
+        defect / self.scale
+    }
+
+    /// The floor of the energy scale \[J\].
+    pub fn floor(&self) -> f64 {
+        self.floor
+    }
+
+    /// The energy scale so far \[J\].
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// The largest energy error so far, with the current scale.
+    pub fn error(&self) -> f64 {
+        self.largest_defect / self.scale
+    }
+
+    /// The watchdog's error for `r`: time, energies and what to try.
+    pub fn divergence(&self, r: &StepRecord, limit: f64) -> Error {
+        let first = self.first.as_ref().unwrap_or(r);
+        let defect = r.total - first.total - r.torque_work;
+        Error::Divergence {
+            step: r.step,
+            t: r.time,
+            message: format!(
+                "energy error {:.3e} of the energy scale {:.4e} J exceeds output.energy_watchdog = {limit}: \
+                 the total energy changed by {:.4e} J while the torque did {:.4e} J of work (now kinetic {:.4e} J, \
+                 strain {:.4e} J, gravity {:.4e} J). The step is probably too large for this motion: try a smaller \
+                 time.dt or time.max_rotation_deg, or time.scheme = \"hht\"; output.energy_watchdog = 0 runs on \
+                 regardless",
+                defect.abs() / self.scale,
+                self.scale,
+                r.total - first.total,
+                r.torque_work,
+                r.kinetic,
+                r.strain,
+                r.gravity
+            ),
+        }
+    }
 }
 
 /// Estimated output above which a run warns before it starts \[bytes\].
