@@ -121,7 +121,7 @@ pub struct NodalStress {
     pub cauchy: Vec<[f64; 3]>,
     /// Averaged von Mises stress per node \[Pa\].
     pub von_mises: Vec<f64>,
-    /// Largest element-node von Mises stress \[Pa\].
+    /// Largest averaged nodal von Mises stress \[Pa\] (the largest of `von_mises`).
     pub max_von_mises: f64,
 }
 
@@ -155,17 +155,21 @@ impl StressRecovery {
         })
     }
 
-    /// Largest element-node von Mises stress only (cheap, every step).
+    /// Largest nodal von Mises stress \[Pa\]: the maximum over the nodes of the von Mises stress
+    /// averaged over the elements that share the node, the very field the frames show (ParaView,
+    /// animations, viewer), so every output reports one largest value. (The largest unaveraged
+    /// element-node value is higher where the stress jumps between elements: 1.19e5 against
+    /// 9.07e4 Pa at the hinge corners of the default run; that jump is discretisation error.)
     pub fn max_von_mises(&self, material: &Material, u: &[f64]) -> f64 {
-        let mut max = 0.0f64;
+        let mut sum = vec![0.0; self.counts.len()];
         for (e, tri) in self.triangles.iter().enumerate() {
-            for a in 0..6 {
+            for (a, &node) in tri.iter().enumerate() {
                 let f = deformation_gradient(tri, &self.nodal.grads[e * 6 + a], u);
                 let (s, szz) = material.cauchy_stress(&f);
-                max = max.max(von_mises(s, szz));
+                sum[node] += von_mises(s, szz);
             }
         }
-        max
+        sum.iter().zip(&self.counts).map(|(s, c)| s / c).fold(0.0, f64::max)
     }
 
     /// Averaged nodal fields and the maximum.
@@ -181,7 +185,6 @@ impl StressRecovery {
                 let f = deformation_gradient(tri, &self.nodal.grads[e * 6 + a], u);
                 let (s, szz) = material.cauchy_stress(&f);
                 let vm = von_mises(s, szz);
-                out.max_von_mises = out.max_von_mises.max(vm);
                 for i in 0..3 {
                     out.cauchy[node][i] += s[i];
                 }
@@ -194,6 +197,7 @@ impl StressRecovery {
             }
             out.von_mises[n] /= c;
         }
+        out.max_von_mises = out.von_mises.iter().copied().fold(0.0, f64::max);
         out
     }
 }

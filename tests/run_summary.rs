@@ -141,3 +141,36 @@ fn the_watchdog_stops_a_run_whose_energy_error_exceeds_the_limit_naming_time_ene
     let (ok, _) = run_into("watchdog-default", config(&[]));
     assert!(ok.unwrap().energy_error < 0.01);
 }
+
+#[test]
+fn the_largest_von_mises_of_csv_and_summary_is_the_largest_value_of_the_frames_field() {
+    use pendulum_fem::commands::run::run_with;
+    let cfg = config(&["time.end=0.3"]);
+    let dir = out_dir("von-mises");
+    std::fs::create_dir_all(&dir).unwrap();
+    let opts = RunOptions {
+        config: cfg,
+        out: Some(dir.clone()),
+        force: false,
+        quiet: true,
+        stop: None,
+    };
+    let mut largest_shown = 0.0f64;
+    let summary = run_with(&opts, dir, |sim, record| {
+        // the nodal field the frames (ParaView, animations, viewer) are made of
+        let shown = sim
+            .frame_data(record.theta)
+            .stress
+            .von_mises
+            .iter()
+            .copied()
+            .fold(0.0, f64::max);
+        assert_eq!(record.von_mises_max, shown, "step {}", record.step);
+        largest_shown = largest_shown.max(shown);
+        Ok(())
+    })
+    .unwrap();
+    assert_eq!(summary.von_mises_max, largest_shown);
+    // the default swing's largest stress, at the hinge corners (README)
+    assert!((8e4..1e5).contains(&largest_shown), "{largest_shown:.4e} Pa");
+}
