@@ -140,6 +140,12 @@ fn print_summary(s: &RunSummary) {
         s.mesh_triangles, s.mesh_nodes, s.unknowns
     );
     println!("  steps              {}", s.steps);
+    if let Some(last) = s.last_step {
+        println!(
+            "  time grid          time.end = {} s is not a multiple of time.dt: the last step was shortened to {last:.6e} s to end there",
+            s.time_reached
+        );
+    }
     println!(
         "  Newton iterations  {} ({} cut-backs)",
         s.newton_iterations, s.cutbacks
@@ -219,7 +225,7 @@ fn run(args: RunArgs) -> Result<bool, Error> {
             "pendulum-fem run interrupted at t = {} s (step {} of {}); results up to then, plots and viewer in {}",
             summary.time_reached,
             summary.steps,
-            opts.config.time.steps(),
+            pendulum_fem::commands::run::StepPlan::of(&opts.config.time).steps(),
             summary.out_dir.display()
         );
         return Ok(true);

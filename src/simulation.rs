@@ -648,4 +648,36 @@ impl Simulation {
         self.total_iterations += its;
         Ok(self.record(its))
     }
+
+    /// Advances one step from the current time to `t_end` (> the current time) and returns its
+    /// record, with the time set to exactly `t_end`. For a last step shorter than `time.dt`, so that
+    /// a run lands on a `time.end` that is not a multiple of `time.dt`. Sub-steps and cut-backs as
+    /// in [`Simulation::advance`].
+    pub fn advance_to(&mut self, t_end: f64) -> Result<StepRecord, Error> {
+        let t0 = self.state.t;
+        let dt = t_end - t0;
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(Error::Input(format!(
+                "advance_to({t_end} s) from t = {t0} s: the end must lie after the current time"
+            )));
+        }
+        let (omega, alpha) = self.angular_rates();
+        let turn = omega.abs() * dt + 0.5 * alpha.abs() * dt * dt;
+        let limit = self.model.config.time.max_rotation_deg.to_radians();
+        let substeps = ((turn / limit).ceil() as usize).max(1).next_power_of_two();
+        let h = dt / substeps as f64;
+        let mut its = 0;
+        for _ in 0..substeps {
+            its += self.advance_by(h, 0).map_err(|(source, dt_min)| Error::TimeStep {
+                step: self.step + 1,
+                t: t0,
+                dt: dt_min,
+                source,
+            })?;
+        }
+        self.step += 1;
+        self.state.t = t_end;
+        self.total_iterations += its;
+        Ok(self.record(its))
+    }
 }

@@ -174,3 +174,60 @@ fn the_largest_von_mises_of_csv_and_summary_is_the_largest_value_of_the_frames_f
     // the default swing's largest stress, at the hinge corners (README)
     assert!((8e4..1e5).contains(&largest_shown), "{largest_shown:.4e} Pa");
 }
+
+#[test]
+fn a_time_end_off_the_dt_grid_ends_with_one_shorter_step() {
+    use pendulum_fem::commands::run::StepPlan;
+    let plan = |end: f64, dt: f64| {
+        let mut t = Config::default().time;
+        (t.end, t.dt) = (end, dt);
+        StepPlan::of(&t)
+    };
+    assert_eq!(plan(1.0, 0.01), StepPlan { full: 100, last: None });
+    // 0.3 / 0.1 = 2.9999999999999996 in floating point: on the grid
+    assert_eq!(plan(0.3, 0.1), StepPlan { full: 3, last: None });
+    let p = plan(0.015, 0.01);
+    assert_eq!((p.full, p.steps()), (1, 2));
+    assert!((p.last.unwrap() - 0.005).abs() < 1e-15);
+}
+
+#[test]
+fn a_run_to_an_off_grid_end_lands_on_it_and_says_so() {
+    let (summary, dir) = run_into("off-grid", config(&["time.end=0.015"]));
+    let summary = summary.unwrap();
+    assert_eq!(summary.steps, 2);
+    assert_eq!(summary.time_reached, 0.015, "exactly time.end");
+    assert!((summary.last_step.unwrap() - 0.005).abs() < 1e-15);
+    let (_, rows) = read_numeric_csv(&dir.join("results.csv")).unwrap();
+    let times: Vec<f64> = rows.iter().map(|r| r[0]).collect();
+    assert_eq!(times, [0.0, 0.01, 0.015]);
+    // the same instant with dt = 0.005 throughout: the two differ by the integrator's
+    // second-order error, measured 5.7e-7 rad; 5e-6 rad would be a step of the wrong length
+    let (fine, dir_fine) = run_into("off-grid-fine", config(&["time.end=0.015", "time.dt=0.005"]));
+    assert_eq!(fine.unwrap().last_step, None);
+    let (_, fine_rows) = read_numeric_csv(&dir_fine.join("results.csv")).unwrap();
+    let (a, b) = (rows.last().unwrap()[1], fine_rows.last().unwrap()[1]);
+    assert!((a - b).abs() < 5e-6, "theta {a} vs {b}");
+}
+
+#[test]
+fn with_every_seven_the_last_step_is_still_written() {
+    let mut cfg = config(&["time.end=0.1", "output.every=7"]);
+    cfg.output.paraview = true;
+    let (summary, dir) = run_into("every7", cfg);
+    summary.unwrap();
+    let pvd = std::fs::read_to_string(dir.join("pendulum.pvd")).unwrap();
+    let files: Vec<&str> = pvd
+        .lines()
+        .filter_map(|l| l.split("file=\"").nth(1))
+        .map(|f| f.trim_end_matches("\"/>"))
+        .collect();
+    assert_eq!(
+        files,
+        [
+            "frames/step_00000.vtu",
+            "frames/step_00007.vtu",
+            "frames/step_00010.vtu"
+        ]
+    );
+}

@@ -49,6 +49,9 @@ pub struct RunSummary {
     pub steps: usize,
     /// Time of the last state computed \[s\].
     pub time_reached: f64,
+    /// The length of a shortened last step that lands on `time.end` \[s\], when `time.end` is
+    /// not a multiple of `time.dt` (see [`StepPlan`]).
+    pub last_step: Option<f64>,
     /// Newton iterations (linear solves) over all steps.
     pub newton_iterations: usize,
     /// Numeric factorisations over the run.
@@ -118,6 +121,42 @@ pub fn run_with(
     observe: impl FnMut(&Simulation, &StepRecord) -> Result<(), Error>,
 ) -> Result<RunSummary, Error> {
     run_with_outputs(opts, out_dir, false, observe)
+}
+
+/// The steps of a run: `full` steps of `time.dt`, then, when `time.end` is not a multiple of
+/// `time.dt` (to 1e-9 relative), one shorter `last` step that lands exactly on `time.end`.
+/// `time.end = 0.015` with `dt = 0.01`: one step to 0.01, one of 0.005 to 0.015.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepPlan {
+    /// Steps of `time.dt`.
+    pub full: usize,
+    /// Length of the shortened last step \[s\], if any.
+    pub last: Option<f64>,
+}
+
+impl StepPlan {
+    /// The plan of a time section.
+    pub fn of(time: &crate::config::Time) -> Self {
+        let x = time.end / time.dt;
+        let n = x.round();
+        if (x - n).abs() <= 1e-9 * x.max(1.0) {
+            Self {
+                full: n as usize,
+                last: None,
+            }
+        } else {
+            let full = x.floor();
+            Self {
+                full: full as usize,
+                last: Some(time.end - full * time.dt),
+            }
+        }
+    }
+
+    /// Steps in all.
+    pub fn steps(&self) -> usize {
+        self.full + usize::from(self.last.is_some())
+    }
 }
 
 /// How a run ended.
@@ -209,11 +248,12 @@ fn run_steps(
     } else {
         ProgressMode::detect(false)
     };
-    let mut progress = Progress::new(cfg.time.steps(), mode);
+    let mut progress = Progress::new(StepPlan::of(&cfg.time).steps(), mode);
     let mut seconds_outputs = 0.0;
     let mut period = PeriodEstimator::default();
     let mut audit = EnergyAudit::new(EnergyAudit::floor_of(&sim.model));
-    let steps = cfg.time.steps();
+    let plan = StepPlan::of(&cfg.time);
+    summary.last_step = plan.last;
     let stop_requested = || opts.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst));
     let mut record = sim.record(0);
     // The loop ends with `Ok(())` (completed or interrupted) or the error that stopped it; the
@@ -245,14 +285,19 @@ fn run_steps(
         if cfg.output.energy_watchdog > 0.0 && error > cfg.output.energy_watchdog {
             break Err(audit.divergence(&record, cfg.output.energy_watchdog));
         }
-        if sim.step >= steps {
+        if sim.step >= plan.steps() {
             break Ok(());
         }
         if stop_requested() {
             summary.end = RunEnd::Interrupted;
             break Ok(());
         }
-        match sim.advance() {
+        let next = if sim.step < plan.full {
+            sim.advance()
+        } else {
+            sim.advance_to(cfg.time.end)
+        };
+        match next {
             Ok(r) => record = r,
             Err(e) => break Err(e),
         }
@@ -404,7 +449,7 @@ pub const LARGE_OUTPUT_BYTES: u64 = 1_000_000_000;
 /// A warning naming the estimated size of the ParaView frames when it exceeds
 /// [`LARGE_OUTPUT_BYTES`], with the keys that reduce it; `None` below.
 pub fn output_size_warning(cfg: &crate::Config, mesh: &crate::Mesh) -> Option<String> {
-    let steps = cfg.time.steps();
+    let steps = StepPlan::of(&cfg.time).steps();
     let stride = cfg.output.paraview_stride();
     let frames = (steps / stride + 2) as u64;
     let per_frame = crate::io::pvd::estimated_frame_bytes(mesh);
