@@ -53,7 +53,7 @@ struct ConfigArgs {
     /// TOML configuration file (every key optional; omitted: the tutorial's defaults).
     #[arg(long, short = 'c', value_name = "FILE")]
     config: Option<PathBuf>,
-    /// Override a configuration key, e.g. `--set mesh.max_size=0.01` (repeatable).
+    /// Override a configuration key, e.g. `--set mesh.refine=2` or `--set time.end=3` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
 }

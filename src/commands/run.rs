@@ -212,6 +212,9 @@ fn run_steps(
     let start = Instant::now();
     let cfg = &opts.config;
     let mesh = mesh::generate(cfg)?;
+    if let Some(warning) = mesh::max_size_warning(cfg, &mesh) {
+        eprintln!("{warning}");
+    }
     let seconds_mesh = start.elapsed().as_secs_f64();
     let t_setup = Instant::now();
     let mut sim = Simulation::from_config(cfg, mesh)?;
