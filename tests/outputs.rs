@@ -2,6 +2,8 @@
 
 #[path = "common/plate.rs"]
 mod plate;
+#[path = "common/tools.rs"]
+mod tools;
 
 use std::collections::HashSet;
 use std::path::Path;
@@ -208,14 +210,6 @@ fn pvd_is_valid_while_the_run_is_still_going() {
     assert_eq!(pvd_entries(&dir.join("pendulum.pvd")).len(), 3);
 }
 
-fn meshio_available() -> bool {
-    std::process::Command::new("python3")
-        .args(["-c", "import meshio"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-}
-
 /// Reads every file with meshio and returns, per file, the points, every point and cell array and
 /// the field data as JSON, each array as the hex of its little-endian Float64 bytes (exact).
 fn meshio_dump(files: &[std::path::PathBuf]) -> Vec<serde_json::Value> {
@@ -263,12 +257,12 @@ fn floats(v: &serde_json::Value) -> Vec<f64> {
 
 #[test]
 fn meshio_reads_every_frame_back_with_equal_values() {
-    if !meshio_available() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "meshio must be installed on CI (.ci/run installs it)"
-        );
-        eprintln!("note: python3 with meshio not found; skipping the meshio read-back");
+    if !tools::tool_or_skip(
+        "meshio_reads_every_frame_back_with_equal_values",
+        tools::python_module("meshio"),
+        "python3 with meshio",
+        "pip install meshio",
+    ) {
         return;
     }
     let dir = temp_dir("meshio");
