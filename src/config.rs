@@ -89,6 +89,10 @@ pub struct MeshConfig {
     /// Divides every size above (the global maximum and each local size, given or derived):
     /// 2 halves them all (the default pendulum: 1233 → 3436 triangles). 0.1 to 100.
     pub refine: f64,
+    /// A Gmsh 4.1 mesh to swing instead of the generated pendulum (ASCII or binary, 3- or 6-node
+    /// triangles, the hinge edge in a physical curve group named `rotation`); the geometry and
+    /// the sizes above are then unused, except `geometry.thickness`.
+    pub file: Option<PathBuf>,
 }
 
 impl Default for MeshConfig {
@@ -103,6 +107,7 @@ impl Default for MeshConfig {
             circle_edge_size: None,
             grading: 0.3,
             refine: 1.0,
+            file: None,
         }
     }
 }
@@ -729,7 +734,7 @@ fn within(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), Error> 
 }
 
 /// Keys holding paths; in a configuration file, a relative one is relative to the file's folder.
-pub const PATH_KEYS: [(&str, &str); 2] = [("torque", "file"), ("output", "dir")];
+pub const PATH_KEYS: [(&str, &str); 3] = [("torque", "file"), ("output", "dir"), ("mesh", "file")];
 
 /// Makes the relative paths of [`PATH_KEYS`] in a configuration file's document relative to the
 /// file's folder (`folder`); absolute paths and values that are not strings are left alone (the

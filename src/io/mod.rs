@@ -1,9 +1,11 @@
-//! Writers and readers: VTU/PVD for ParaView, Gmsh `.msh`, CSV, plots, animations, the HTML viewer.
+//! Writers and readers: VTU/PVD for ParaView, Gmsh `.msh` (written and read), CSV, plots, animations,
+//! the HTML viewer, the run status.
 
 pub mod anim;
 pub mod csv;
 mod font;
 pub mod gmsh;
+pub mod gmsh_read;
 pub mod outdir;
 pub mod plot;
 pub mod pvd;

@@ -46,8 +46,15 @@ pub struct MeshStats {
     pub straightened: usize,
 }
 
-/// Meshes the pendulum described by `cfg`.
+/// Meshes the pendulum described by `cfg`, or reads `mesh.file` when it is set
+/// ([`crate::io::gmsh_read`]).
 pub fn generate(cfg: &Config) -> Result<Mesh, Error> {
+    if let Some(file) = &cfg.mesh.file {
+        return crate::io::gmsh_read::read_msh(file).map_err(|e| match e {
+            Error::Input(m) => Error::Mesh(format!("mesh.file: {m}")),
+            other => other,
+        });
+    }
     generate_with_stats(cfg).map(|(m, _)| m)
 }
 
@@ -56,7 +63,7 @@ pub fn generate(cfg: &Config) -> Result<Mesh, Error> {
 /// nothing (the tutorial's local sizes are absolute); `mesh.refine` refines the whole mesh. `None`
 /// for the default `max_size`, which bounds nothing in the tutorial's pendulum either.
 pub fn max_size_warning(cfg: &Config, mesh: &Mesh) -> Option<String> {
-    if cfg.mesh.max_size == crate::config::MeshConfig::default().max_size {
+    if cfg.mesh.max_size == crate::config::MeshConfig::default().max_size || cfg.mesh.file.is_some() {
         return None;
     }
     let sizes = cfg.mesh_sizes();
