@@ -733,8 +733,9 @@ fn within(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), Error> 
     }
 }
 
-/// Keys holding paths; in a configuration file, a relative one is relative to the file's folder.
-pub const PATH_KEYS: [(&str, &str); 3] = [("torque", "file"), ("output", "dir"), ("mesh", "file")];
+/// Keys naming input files; in a configuration file, a relative one is relative to the file's
+/// folder. (`output.dir` is not an input: like `--out`, it is relative to where the run starts.)
+pub const PATH_KEYS: [(&str, &str); 2] = [("torque", "file"), ("mesh", "file")];
 
 /// Makes the relative paths of [`PATH_KEYS`] in a configuration file's document relative to the
 /// file's folder (`folder`); absolute paths and values that are not strings are left alone (the
@@ -805,12 +806,17 @@ mod tests {
         let file = dir.join("p.toml");
         std::fs::write(
             &file,
-            "[torque]\nprofile = \"table\"\nfile = \"t.csv\"\n[output]\ndir = \"out\"\n",
+            "[torque]\nprofile = \"table\"\nfile = \"t.csv\"\n[mesh]\nfile = \"m.msh\"\n[output]\ndir = \"out\"\n",
         )
         .unwrap();
         let cfg = Config::load(Some(&file), &[]).unwrap();
         assert_eq!(cfg.torque.file.as_deref(), Some(dir.join("t.csv").as_path()));
-        assert_eq!(cfg.output.dir, dir.join("out"));
+        assert_eq!(cfg.mesh.file.as_deref(), Some(dir.join("m.msh").as_path()));
+        assert_eq!(
+            cfg.output.dir,
+            Path::new("out"),
+            "an output folder is relative to the current folder"
+        );
         let cfg = Config::load(Some(&file), &["torque.file=u.csv".into()]).unwrap();
         assert_eq!(cfg.torque.file.as_deref(), Some(Path::new("u.csv")), "--set: as typed");
         let absolute = dir.join("abs.csv");
