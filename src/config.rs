@@ -86,6 +86,13 @@ pub struct MeshConfig {
     pub circle_edge_size: Option<f64>,
     /// Growth rate of the size away from small features (Netgen's `grading`), 0.05 to 1.
     pub grading: f64,
+    /// Divides every size above (the global maximum and each local size, given or derived):
+    /// 2 halves them all (the default pendulum: 1233 → 3436 triangles). 0.1 to 100.
+    pub refine: f64,
+    /// A Gmsh 4.1 mesh to swing instead of the generated pendulum (ASCII or binary, 3- or 6-node
+    /// triangles, the hinge edge in a physical curve group named `rotation`); the geometry and
+    /// the sizes above are then unused, except `geometry.thickness`.
+    pub file: Option<PathBuf>,
 }
 
 impl Default for MeshConfig {
@@ -99,6 +106,8 @@ impl Default for MeshConfig {
             hinge_corner_size: None,
             circle_edge_size: None,
             grading: 0.3,
+            refine: 1.0,
+            file: None,
         }
     }
 }
@@ -123,17 +132,19 @@ pub struct MeshSizes {
 }
 
 impl Config {
-    /// The local mesh sizes, with defaults derived from the geometry as in the tutorial.
+    /// The local mesh sizes, with defaults derived from the geometry as in the tutorial, each
+    /// divided by `mesh.refine`.
     pub fn mesh_sizes(&self) -> MeshSizes {
         let g = &self.geometry;
         let m = &self.mesh;
+        let r = m.refine;
         MeshSizes {
-            max_size: m.max_size,
-            rod: m.rod_size.unwrap_or(g.rod_half_width / 2.0),
-            head: m.head_size.unwrap_or(g.head_radius / 5.0),
-            hinge_edge: m.hinge_edge_size.unwrap_or(g.rod_half_width / 10.0),
-            hinge_corner: m.hinge_corner_size.unwrap_or(g.rod_half_width / 20.0),
-            circle_edge: m.circle_edge_size.unwrap_or(g.head_radius / 20.0),
+            max_size: m.max_size / r,
+            rod: m.rod_size.unwrap_or(g.rod_half_width / 2.0) / r,
+            head: m.head_size.unwrap_or(g.head_radius / 5.0) / r,
+            hinge_edge: m.hinge_edge_size.unwrap_or(g.rod_half_width / 10.0) / r,
+            hinge_corner: m.hinge_corner_size.unwrap_or(g.rod_half_width / 20.0) / r,
+            circle_edge: m.circle_edge_size.unwrap_or(g.head_radius / 20.0) / r,
             grading: m.grading,
         }
     }
@@ -420,8 +431,12 @@ impl Default for Torque {
 pub struct Output {
     /// Output folder; each run gets a fresh subfolder unless `--out` names one.
     pub dir: PathBuf,
-    /// Write every n-th step to the frame outputs (ParaView, animation, viewer).
+    /// Offer every n-th step to the animations and the viewer (the last step is always offered);
+    /// also the ParaView thinning unless `paraview_every` is set.
     pub every: usize,
+    /// Write every n-th step as a ParaView frame (the last step is always written); `None`: as
+    /// `every`.
+    pub paraview_every: Option<usize>,
     /// Magnification of the elastic part of the displacement in pictures; `None`: automatic.
     pub magnification: Option<f64>,
     /// Write `theta.png` and `energy.png`.
@@ -434,6 +449,16 @@ pub struct Output {
     pub viewer: bool,
     /// Upper bound on frames in the animations and the viewer (frames are thinned to fit).
     pub max_frames: usize,
+    /// The run stops with an error when the energy error (energy change minus the work of the
+    /// torque, over the energy scale) exceeds this fraction; 0 switches the watchdog off.
+    pub energy_watchdog: f64,
+}
+
+impl Output {
+    /// The ParaView thinning: `paraview_every`, or `every` when that is not set.
+    pub fn paraview_stride(&self) -> usize {
+        self.paraview_every.unwrap_or(self.every).max(1)
+    }
 }
 
 impl Default for Output {
@@ -441,12 +466,14 @@ impl Default for Output {
         Self {
             dir: PathBuf::from("results"),
             every: 1,
+            paraview_every: None,
             magnification: None,
             plots: true,
             animation: true,
             paraview: true,
             viewer: true,
             max_frames: 200,
+            energy_watchdog: 0.01,
         }
     }
 }
@@ -464,6 +491,9 @@ impl Config {
             }
             None => toml::Table::new(),
         };
+        if let Some(folder) = path.and_then(Path::parent) {
+            resolve_relative_paths(&mut doc, folder);
+        }
         for o in overrides {
             apply_override(&mut doc, o)?;
         }
@@ -544,6 +574,7 @@ impl Config {
             }
         }
         within("mesh.grading", m.grading, 0.05, 1.0, "")?;
+        within("mesh.refine", m.refine, 0.1, 100.0, "(divides every mesh size)")?;
         let sizes = self.mesh_sizes();
         let smallest = [
             sizes.max_size,
@@ -669,6 +700,16 @@ impl Config {
         if o.every == 0 {
             return Err(Error::Config("output.every = 0: allowed range 1 and up".into()));
         }
+        if o.paraview_every == Some(0) {
+            return Err(Error::Config(
+                "output.paraview_every = 0: allowed range 1 and up (output.paraview = false writes no frames)".into(),
+            ));
+        }
+        non_negative(
+            "output.energy_watchdog",
+            o.energy_watchdog,
+            "(a fraction of the energy scale; 0: off)",
+        )?;
         if let Some(mag) = o.magnification {
             if !(mag >= 0.0 && mag.is_finite()) {
                 return Err(range(
@@ -724,6 +765,27 @@ fn within(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), Error> 
     }
 }
 
+/// Keys naming input files; in a configuration file, a relative one is relative to the file's
+/// folder. (`output.dir` is not an input: like `--out`, it is relative to where the run starts.)
+pub const PATH_KEYS: [(&str, &str); 2] = [("torque", "file"), ("mesh", "file")];
+
+/// Makes the relative paths of [`PATH_KEYS`] in a configuration file's document relative to the
+/// file's folder (`folder`); absolute paths and values that are not strings are left alone (the
+/// latter fail with their key when deserialised).
+fn resolve_relative_paths(doc: &mut toml::Table, folder: &Path) {
+    for (section, key) in PATH_KEYS {
+        let value = doc
+            .get_mut(section)
+            .and_then(toml::Value::as_table_mut)
+            .and_then(|t| t.get_mut(key));
+        if let Some(toml::Value::String(p)) = value {
+            if Path::new(p.as_str()).is_relative() {
+                *p = folder.join(p.as_str()).to_string_lossy().into_owned();
+            }
+        }
+    }
+}
+
 /// Applies one `section.key=value` override to a TOML document. The value is read as TOML
 /// (numbers, booleans, quoted strings); a bare word that is not valid TOML is taken as a string.
 fn apply_override(doc: &mut toml::Table, assignment: &str) -> Result<(), Error> {
@@ -767,6 +829,52 @@ mod tests {
     fn commented_default_parses_to_the_defaults() {
         let cfg = Config::from_toml_str(&commented_default()).expect("the shipped default config is valid");
         assert_eq!(cfg, Config::default());
+    }
+
+    #[test]
+    fn relative_paths_in_a_file_are_relative_to_its_folder_and_overrides_to_the_current_one() {
+        let dir = std::env::temp_dir().join(format!("pendulum-fem-config-paths-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("p.toml");
+        std::fs::write(
+            &file,
+            "[torque]\nprofile = \"table\"\nfile = \"t.csv\"\n[mesh]\nfile = \"m.msh\"\n[output]\ndir = \"out\"\n",
+        )
+        .unwrap();
+        let cfg = Config::load(Some(&file), &[]).unwrap();
+        assert_eq!(cfg.torque.file.as_deref(), Some(dir.join("t.csv").as_path()));
+        assert_eq!(cfg.mesh.file.as_deref(), Some(dir.join("m.msh").as_path()));
+        assert_eq!(
+            cfg.output.dir,
+            Path::new("out"),
+            "an output folder is relative to the current folder"
+        );
+        let cfg = Config::load(Some(&file), &["torque.file=u.csv".into()]).unwrap();
+        assert_eq!(cfg.torque.file.as_deref(), Some(Path::new("u.csv")), "--set: as typed");
+        let absolute = dir.join("abs.csv");
+        std::fs::write(&file, format!("[torque]\nprofile = \"table\"\nfile = {:?}\n", absolute)).unwrap();
+        let cfg = Config::load(Some(&file), &[]).unwrap();
+        assert_eq!(cfg.torque.file.as_deref(), Some(absolute.as_path()));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn refine_divides_every_mesh_size() {
+        let base = Config::default().mesh_sizes();
+        let cfg = Config::load(None, &["mesh.refine=2".into(), "mesh.rod_size=0.006".into()]).unwrap();
+        let s = cfg.mesh_sizes();
+        for (a, b) in [
+            (s.max_size, base.max_size),
+            (s.head, base.head),
+            (s.hinge_edge, base.hinge_edge),
+            (s.hinge_corner, base.hinge_corner),
+            (s.circle_edge, base.circle_edge),
+            (s.rod, 0.006),
+        ] {
+            assert_eq!(a, b / 2.0);
+        }
+        let err = Config::load(None, &["mesh.refine=0".into()]).unwrap_err().to_string();
+        assert!(err.contains("mesh.refine") && err.contains("0.1 to 100"), "{err}");
     }
 
     #[test]

@@ -103,6 +103,15 @@ pub enum Error {
     Input(String),
     /// The sparse factorisation could not be set up.
     LinearSolver(String),
+    /// The run was stopped because it diverged (the energy watchdog of `pendulum-fem run`).
+    Divergence {
+        /// Step at which it was detected.
+        step: usize,
+        /// Its time \[s\].
+        t: f64,
+        /// What was seen and what to try.
+        message: String,
+    },
 }
 
 impl fmt::Display for Error {
@@ -132,6 +141,7 @@ impl fmt::Display for Error {
             Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
             Self::Input(m) => write!(f, "input: {m}"),
             Self::LinearSolver(m) => write!(f, "linear solver: {m}"),
+            Self::Divergence { step, t, message } => write!(f, "run stopped at step {step}, t = {t} s: {message}"),
         }
     }
 }

@@ -3,9 +3,11 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 use clap::{Args, Parser, Subcommand};
-use pendulum_fem::commands::run::{RunOptions, RunSummary};
+use pendulum_fem::commands::run::{RunEnd, RunOptions, RunSummary};
 use pendulum_fem::{config, Config, Error};
 
 /// Finite-element simulation of a deformable pendulum (the NGSolve tutorial "FEM Pendulum").
@@ -51,7 +53,7 @@ struct ConfigArgs {
     /// TOML configuration file (every key optional; omitted: the tutorial's defaults).
     #[arg(long, short = 'c', value_name = "FILE")]
     config: Option<PathBuf>,
-    /// Override a configuration key, e.g. `--set mesh.max_size=0.01` (repeatable).
+    /// Override a configuration key, e.g. `--set mesh.refine=2` or `--set time.end=3` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
 }
@@ -138,6 +140,12 @@ fn print_summary(s: &RunSummary) {
         s.mesh_triangles, s.mesh_nodes, s.unknowns
     );
     println!("  steps              {}", s.steps);
+    if let Some(last) = s.last_step {
+        println!(
+            "  time grid          time.end = {} s is not a multiple of time.dt: the last step was shortened to {last:.6e} s to end there",
+            s.time_reached
+        );
+    }
     println!(
         "  Newton iterations  {} ({} cut-backs)",
         s.newton_iterations, s.cutbacks
@@ -158,8 +166,8 @@ fn print_summary(s: &RunSummary) {
     }
     println!("  max von Mises      {:.4e} Pa", s.von_mises_max);
     println!(
-        "  energy drift       {:.3e} of the largest kinetic energy",
-        s.energy_drift
+        "  energy error       {:.3e} of the energy scale {:.4e} J (max |energy change - torque work|)",
+        s.energy_error, s.energy_scale
     );
     println!("  writing outputs    {:.3} s of the wall time", s.seconds_outputs);
     println!("  results in         {}", s.out_dir.display());
@@ -180,17 +188,50 @@ fn print_summary(s: &RunSummary) {
     }
 }
 
-fn run(args: RunArgs) -> Result<(), Error> {
+/// Exit code of a run stopped by Ctrl-C or SIGTERM (128 + SIGINT, the shell's convention).
+const EXIT_INTERRUPTED: u8 = 130;
+
+/// Sets `stop` on the first Ctrl-C / SIGTERM / SIGHUP; a second one exits at once.
+fn install_stop_handler(stop: Arc<AtomicBool>) {
+    let installed = ctrlc::set_handler(move || {
+        if stop.swap(true, Ordering::SeqCst) {
+            eprintln!("\ninterrupted again: exiting at once (outputs may be incomplete)");
+            std::process::exit(i32::from(EXIT_INTERRUPTED));
+        }
+        eprintln!(
+            "\ninterrupted: stopping after the current step and finishing the outputs (Ctrl-C again: exit at once)"
+        );
+    });
+    if let Err(e) = installed {
+        eprintln!("warning: no Ctrl-C handler ({e}); an interrupt will stop the run without finishing its outputs");
+    }
+}
+
+/// Runs; `Ok(true)` when the run was interrupted.
+fn run(args: RunArgs) -> Result<bool, Error> {
     let config = load(&args.cfg)?;
+    let stop = Arc::new(AtomicBool::new(false));
+    install_stop_handler(stop.clone());
     let opts = RunOptions {
         config,
         out: args.out.clone(),
         force: args.force,
         quiet: args.quiet,
+        stop: Some(stop),
     };
     let summary = pendulum_fem::commands::run::run(&opts)?;
+    if summary.end == RunEnd::Interrupted {
+        println!(
+            "pendulum-fem run interrupted at t = {} s (step {} of {}); results up to then, plots and viewer in {}",
+            summary.time_reached,
+            summary.steps,
+            pendulum_fem::commands::run::StepPlan::of(&opts.config.time).steps(),
+            summary.out_dir.display()
+        );
+        return Ok(true);
+    }
     print_summary(&summary);
-    Ok(())
+    Ok(false)
 }
 
 fn init(file: Option<PathBuf>, force: bool) -> Result<(), Error> {
@@ -208,22 +249,37 @@ fn init(file: Option<PathBuf>, force: bool) -> Result<(), Error> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let interrupted = |r: Result<bool, Error>| {
+        r.map(|i| {
+            if i {
+                ExitCode::from(EXIT_INTERRUPTED)
+            } else {
+                ExitCode::SUCCESS
+            }
+        })
+    };
     let result = match cli.command {
-        None => run(RunArgs::default()),
-        Some(Command::Run(args)) => run(args),
-        Some(Command::Init { file, force }) => init(file, force),
-        Some(Command::Bench(args)) => bench(args),
-        Some(Command::Mesh { cfg, out, json }) => {
-            load(&cfg).and_then(|c| pendulum_fem::commands::mesh::mesh_command(&c, &out, json))
-        }
+        None => interrupted(run(RunArgs::default())),
+        Some(Command::Run(args)) => interrupted(run(args)),
+        Some(Command::Init { file, force }) => init(file, force).map(|()| ExitCode::SUCCESS),
+        Some(Command::Bench(args)) => bench(args).map(|()| ExitCode::SUCCESS),
+        Some(Command::Mesh { cfg, out, json }) => load(&cfg)
+            .and_then(|c| pendulum_fem::commands::mesh::mesh_command(&c, &out, json))
+            .map(|()| ExitCode::SUCCESS),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
+            // causes that the message above does not already contain
+            let mut shown = e.to_string();
             let mut source = std::error::Error::source(&e);
             while let Some(s) = source {
-                eprintln!("  caused by: {s}");
+                let m = s.to_string();
+                if !shown.contains(&m) {
+                    eprintln!("  caused by: {m}");
+                    shown.push_str(&m);
+                }
                 source = s.source();
             }
             ExitCode::FAILURE

@@ -62,6 +62,13 @@ pub fn green_strain(f: &VecF) -> Sym {
     ]
 }
 
+/// `(tr E, det C − 1)` of a strain, `det C − 1 = 2 tr E + 4 det E` (`C = I + 2E`), without
+/// forming `C`.
+fn invariants(e: &Sym) -> (f64, f64) {
+    let tr = e[0] + e[1];
+    (tr, 2.0 * tr + 4.0 * (e[0] * e[1] - e[2] * e[2]))
+}
+
 /// `A : B = Σ_ij A_ij B_ij` of two symmetric tensors (the off-diagonal entry counts twice).
 pub fn sym_dot(a: &Sym, b: &Sym) -> f64 {
     a[0] * b[0] + a[1] * b[1] + 2.0 * a[2] * b[2]
@@ -138,12 +145,11 @@ impl Material {
     /// so the rounding error of `ψ` is `ε μ |tr E|`, not `ε μ` (for steel at a strain of 1e-7 the
     /// energy density is 1e-3 J/m³ and the textbook form has an absolute error of 1e-5).
     pub fn strain_energy(&self, e: &Sym) -> (f64, f64) {
-        let tr = e[0] + e[1];
+        let (tr, x) = invariants(e);
         match self.model {
             MaterialModel::NeoHookean => {
                 let (lambda, mu) = (self.lambda, self.mu);
                 let k = lambda / mu;
-                let x = 2.0 * tr + 4.0 * (e[0] * e[1] - e[2] * e[2]);
                 let second = mu / k * pow1p_minus_1(x, -0.5 * k);
                 (mu * tr + second, (mu * tr).abs() + second.abs())
             }
@@ -164,12 +170,11 @@ impl Material {
 
     /// [`Material::second_piola`] and, for the Neo-Hookean law, `(d, det C)` (`(0, 1)` otherwise).
     fn second_piola_parts(&self, e: &Sym) -> (Sym, f64, f64) {
-        let tr = e[0] + e[1];
+        let (tr, x) = invariants(e);
         match self.model {
             MaterialModel::NeoHookean => {
-                let (lambda, mu) = (self.lambda, self.mu);
-                let k = lambda / mu;
-                let x = 2.0 * tr + 4.0 * (e[0] * e[1] - e[2] * e[2]);
+                let k = self.lambda / self.mu;
+                let mu = self.mu;
                 let d_minus_1 = pow1p_minus_1(x, -(0.5 * k + 1.0));
                 let d = 1.0 + d_minus_1;
                 // S₀₀ = μ(1 − d C₁₁) = μ(−(d − 1) − 2 d E₁₁), likewise S₁₁; S₀₁ = μ d C₀₁ = 2 μ d E₀₁

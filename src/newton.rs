@@ -210,20 +210,32 @@ impl Solver {
 
     /// Solves `K̃ Δu + Cᵀλ = −g`, `C(u + Δu) = 0` with the current factorisation, rotated by `dphi`
     /// from its frame into the current one; returns `(Δu, λ, δ²)`.
-    /// Numeric factorisation of `self.k` and the hinge columns `K⁻¹ Cᵀ` in the factor's frame.
-    fn factorize(&mut self, pattern: &Pattern) -> Result<(), crate::linsolve::NotPositiveDefinite> {
+    /// Numeric factorisation of `self.k` in the frame of `settings`, and the hinge columns
+    /// `K⁻¹ Cᵀ` in that frame; counted in `report`.
+    fn factorize(
+        &mut self,
+        pattern: &Pattern,
+        settings: &NewtonSettings,
+        iteration: usize,
+        report: &mut NewtonReport,
+    ) -> Result<(), NewtonError> {
         let start = std::time::Instant::now();
         let factored = self.chol.factor(pattern, &self.k);
         self.timings.factorization += start.elapsed().as_secs_f64();
-        if factored.is_ok() {
-            let start = std::time::Instant::now();
-            let n = self.g.len();
-            self.hinge_columns[..n].copy_from_slice(&self.rows[0]);
-            self.hinge_columns[n..].copy_from_slice(&self.rows[1]);
-            self.chol.solve_in_place(&mut self.hinge_columns);
-            self.timings.solve += start.elapsed().as_secs_f64();
+        report.factorizations += 1;
+        if factored.is_err() {
+            self.factor_frame = None;
+            return Err(NewtonError::SingularTangent { iteration });
         }
-        factored
+        let start = std::time::Instant::now();
+        let n = self.g.len();
+        self.hinge_columns[..n].copy_from_slice(&self.rows[0]);
+        self.hinge_columns[n..].copy_from_slice(&self.rows[1]);
+        self.chol.solve_in_place(&mut self.hinge_columns);
+        self.timings.solve += start.elapsed().as_secs_f64();
+        self.factor_frame = Some((settings.frame_angle, settings.matrix_key));
+        self.diagonal_max = self.diagonal.iter().fold(0.0f64, |m, &k| m.max(self.k[k].abs()));
+        Ok(())
     }
 
     fn constrained_solve(&mut self, u: &[f64], dphi: f64, turn: f64) -> (Vec<f64>, [f64; 2], f64) {
@@ -322,14 +334,7 @@ impl Solver {
                     phi = Some(self.assemble(pattern, terms, u, t));
                     k_at_u = true;
                 }
-                let factored = self.factorize(pattern);
-                report.factorizations += 1;
-                if factored.is_err() {
-                    self.factor_frame = None;
-                    return Err(NewtonError::SingularTangent { iteration });
-                }
-                self.factor_frame = Some((settings.frame_angle, settings.matrix_key));
-                self.diagonal_max = self.diagonal.iter().fold(0.0f64, |m, &k| m.max(self.k[k].abs()));
+                self.factorize(pattern, settings, iteration, &mut report)?;
                 need_factor = false;
                 factor_at_u = true;
             }
@@ -491,14 +496,7 @@ impl Solver {
             iteration += 1;
             if need_factor {
                 self.assemble(pattern, terms, u, t);
-                let factored = self.factorize(pattern);
-                report.factorizations += 1;
-                if factored.is_err() {
-                    self.factor_frame = None;
-                    return Err(NewtonError::SingularTangent { iteration });
-                }
-                self.factor_frame = Some((settings.frame_angle, settings.matrix_key));
-                self.diagonal_max = self.diagonal.iter().fold(0.0f64, |m, &k| m.max(self.k[k].abs()));
+                self.factorize(pattern, settings, iteration, &mut report)?;
                 need_factor = false;
                 factor_at_u = true;
             }

@@ -120,7 +120,7 @@ pub struct NodalStress {
     pub cauchy: Vec<[f64; 3]>,
     /// Averaged von Mises stress per node \[Pa\].
     pub von_mises: Vec<f64>,
-    /// Largest element-node von Mises stress \[Pa\].
+    /// Largest averaged nodal von Mises stress \[Pa\] (the largest of `von_mises`).
     pub max_von_mises: f64,
 }
 
@@ -154,20 +154,33 @@ impl StressRecovery {
         })
     }
 
-    /// Largest element-node von Mises stress only (cheap, every step).
+    /// Largest nodal von Mises stress \[Pa\]: the maximum over the nodes of the von Mises stress
+    /// averaged over the elements that share the node, the very field the frames show (ParaView,
+    /// animations, viewer), so every output reports one largest value. (The largest unaveraged
+    /// element-node value is higher where the stress jumps between elements: 1.19e5 against
+    /// 9.07e4 Pa at the hinge corners of the default run; that jump is discretisation error.)
     pub fn max_von_mises(&self, material: &Material, u: &[f64]) -> f64 {
         use rayon::prelude::*;
-        self.triangles
+        // element-node values in parallel, summed per node in element order (deterministic)
+        let values: Vec<[f64; 6]> = self
+            .triangles
             .par_iter()
             .enumerate()
             .map(|(e, tri)| {
-                (0..6).fold(0.0f64, |max, a| {
+                std::array::from_fn(|a| {
                     let f = deformation_gradient(tri, &self.nodal.grads[e * 6 + a], u);
                     let (s, szz) = material.cauchy_stress(&f);
-                    max.max(von_mises(s, szz))
+                    von_mises(s, szz)
                 })
             })
-            .reduce(|| 0.0, f64::max)
+            .collect();
+        let mut sum = vec![0.0; self.counts.len()];
+        for (tri, v) in self.triangles.iter().zip(&values) {
+            for (&node, x) in tri.iter().zip(v) {
+                sum[node] += x;
+            }
+        }
+        sum.iter().zip(&self.counts).map(|(s, c)| s / c).fold(0.0, f64::max)
     }
 
     /// Averaged nodal fields and the maximum.
@@ -183,7 +196,6 @@ impl StressRecovery {
                 let f = deformation_gradient(tri, &self.nodal.grads[e * 6 + a], u);
                 let (s, szz) = material.cauchy_stress(&f);
                 let vm = von_mises(s, szz);
-                out.max_von_mises = out.max_von_mises.max(vm);
                 for i in 0..3 {
                     out.cauchy[node][i] += s[i];
                 }
@@ -196,6 +208,7 @@ impl StressRecovery {
             }
             out.von_mises[n] /= c;
         }
+        out.max_von_mises = out.von_mises.iter().copied().fold(0.0, f64::max);
         out
     }
 }

@@ -825,6 +825,16 @@ impl Simulation {
     /// (at most 1.3° per step).
     pub fn advance(&mut self) -> Result<StepRecord, Error> {
         let dt = self.model.config.time.dt;
+        let its = self.advance_over(dt)?;
+        // exact step times, free of accumulated rounding
+        self.state.t = self.step as f64 * dt;
+        Ok(self.record(its))
+    }
+
+    /// One output step of length `dt`: sub-steps for the Newmark schemes (see
+    /// [`Simulation::advance`]; the energy-momentum scheme needs none), cut-backs, the step counter;
+    /// returns the Newton iterations.
+    fn advance_over(&mut self, dt: f64) -> Result<usize, Error> {
         let t0 = self.state.t;
         let (omega, alpha) = self.angular_rates();
         let turn = omega.abs() * dt + 0.5 * alpha.abs() * dt * dt;
@@ -845,9 +855,24 @@ impl Simulation {
             })?;
         }
         self.step += 1;
-        // exact step times, free of accumulated rounding
-        self.state.t = self.step as f64 * dt;
         self.total_iterations += its;
+        Ok(its)
+    }
+
+    /// Advances one step from the current time to `t_end` (> the current time) and returns its
+    /// record, with the time set to exactly `t_end`. For a last step shorter than `time.dt`, so that
+    /// a run lands on a `time.end` that is not a multiple of `time.dt`. Sub-steps and cut-backs as
+    /// in [`Simulation::advance`].
+    pub fn advance_to(&mut self, t_end: f64) -> Result<StepRecord, Error> {
+        let t0 = self.state.t;
+        let dt = t_end - t0;
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(Error::Input(format!(
+                "advance_to({t_end} s) from t = {t0} s: the end must lie after the current time"
+            )));
+        }
+        let its = self.advance_over(dt)?;
+        self.state.t = t_end;
         Ok(self.record(its))
     }
 }

@@ -56,7 +56,7 @@ fn out_of_range_values_name_the_key_and_the_allowed_range() {
 }
 
 #[test]
-fn a_failing_step_names_step_time_and_residual_and_keeps_the_rows_written() {
+fn a_failing_step_names_step_time_and_residual_keeps_the_rows_and_writes_plots_and_status() {
     let dir = scratch("fail");
     let out = dir.join("out");
     // an energy tolerance no update can reach, one iteration, no cut-back: step 1 must fail
@@ -91,6 +91,23 @@ fn a_failing_step_names_step_time_and_residual_and_keeps_the_rows_written() {
     assert_eq!(lines.len(), 2, "header and the initial row: {csv}");
     assert!(lines[0].starts_with("time_s,theta_rad,omega_rad_s,alpha_rad_s2,kinetic_J,strain_J,gravity_J,total_J,hinge_fx_N,hinge_fy_N,von_mises_max_Pa,newton_iterations"));
     assert!(lines[1].starts_with("0,"));
+    // the failed run still shows what it computed, and says how it ended
+    for f in [
+        "theta.png",
+        "energy.png",
+        "viewer.html",
+        "pendulum.pvd",
+        "frames/step_00000.vtu",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing after the failure");
+    }
+    let status = status_of(&out);
+    assert_eq!(status.status, "failed");
+    assert_eq!((status.step, status.time_s), (Some(0), Some(0.0)));
+    assert!(
+        status.error.as_deref().unwrap_or("").contains("time step 1"),
+        "{status:?}"
+    );
 }
 
 #[test]
@@ -117,4 +134,154 @@ fn help_lists_every_subcommand() {
     for sub in ["run", "mesh", "init", "bench"] {
         assert!(text.contains(sub), "--help lacks {sub}: {text}");
     }
+}
+
+fn status_of(dir: &std::path::Path) -> pendulum_fem::io::status::RunStatus {
+    pendulum_fem::io::status::RunStatus::read(&dir.join("status.json")).expect("status.json")
+}
+
+/// Every file below `dir`, relative, sorted.
+fn files_below(dir: &std::path::Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push(p.strip_prefix(dir).unwrap().display().to_string());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[cfg(unix)]
+#[test]
+fn sigint_stops_at_a_step_boundary_with_consistent_outputs_and_exit_130() {
+    let dir = scratch("sigint");
+    let out = dir.join("out");
+    // 500 steps take several seconds; the interrupt comes after about 20 frames
+    let mut child = bin()
+        .args(["run", "--quiet", "--set", "time.end=5", "--out"])
+        .arg(&out)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let frames = out.join("frames");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while std::fs::read_dir(&frames).map(|d| d.count()).unwrap_or(0) < 20 {
+        assert!(std::time::Instant::now() < deadline, "no frames after 120 s");
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before the interrupt"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "stderr: {}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(stdout.lines().count(), 1, "a one-line summary: {stdout}");
+    assert!(stdout.contains("interrupted at t = "), "{stdout}");
+
+    let status = status_of(&out);
+    assert_eq!(status.status, "interrupted");
+    let (step, time) = (status.step.unwrap(), status.time_s.unwrap());
+    assert!((19..500).contains(&step), "stopped at step {step}");
+    assert!((time - step as f64 * 0.01).abs() < 1e-12, "time {time} of step {step}");
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let rows = csv.lines().count() - 1;
+    let vtu = std::fs::read_dir(&frames).unwrap().count();
+    assert_eq!(rows, step + 1, "CSV rows up to the last step");
+    assert_eq!(vtu, rows, "one frame per CSV row");
+    let pvd = std::fs::read_to_string(out.join("pendulum.pvd")).unwrap();
+    assert_eq!(pvd.matches("<DataSet").count(), vtu, "the .pvd lists every frame");
+    assert!(pvd.trim_end().ends_with("</VTKFile>"));
+    for f in [
+        "theta.png",
+        "energy.png",
+        "displacement.gif",
+        "von_mises.gif",
+        "viewer.html",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing after the interrupt");
+    }
+    let partial: Vec<String> = files_below(&out)
+        .into_iter()
+        .filter(|f| f.ends_with(".partial"))
+        .collect();
+    assert!(partial.is_empty(), "{partial:?}");
+}
+
+#[test]
+fn force_over_a_longer_earlier_run_leaves_no_file_of_it() {
+    let dir = scratch("force");
+    let out = dir.join("out");
+    let run = |end: &str, force: bool| {
+        let mut c = bin();
+        c.args(["run", "--quiet", "--set", &format!("time.end={end}"), "--out"])
+            .arg(&out);
+        if force {
+            c.arg("--force");
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+    };
+    run("0.3", false);
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    assert_eq!(std::fs::read_dir(out.join("frames")).unwrap().count(), 31);
+    let before: Vec<(String, std::time::SystemTime)> = files_below(&out)
+        .into_iter()
+        .map(|f| {
+            let t = std::fs::metadata(out.join(&f)).unwrap().modified().unwrap();
+            (f, t)
+        })
+        .collect();
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    // a shorter run without pictures: nothing of the first run may survive
+    let o = bin()
+        .args([
+            "run",
+            "--quiet",
+            "--force",
+            "--set",
+            "time.end=0.1",
+            "--set",
+            "output.plots=false",
+        ])
+        .args(["--set", "output.animation=false", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let after = files_below(&out);
+    let frames: Vec<&String> = after.iter().filter(|f| f.starts_with("frames")).collect();
+    assert_eq!(frames.len(), 11, "steps 0..=10 only: {frames:?}");
+    for name in ["theta.png", "energy.png", "displacement.gif", "von_mises.gif"] {
+        assert!(!out.join(name).exists(), "stale {name} of the earlier run");
+    }
+    for (f, t) in before {
+        if f == "notes.txt" {
+            assert_eq!(
+                std::fs::read_to_string(out.join(&f)).unwrap(),
+                "mine",
+                "other files are kept"
+            );
+            continue;
+        }
+        if let Ok(m) = std::fs::metadata(out.join(&f)) {
+            assert!(m.modified().unwrap() > t, "{f} is a file of the earlier run");
+        }
+    }
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 12, "header and steps 0..=10");
+    assert_eq!(status_of(&out).status, "ok");
 }

@@ -241,15 +241,7 @@ fn the_torque_and_gravity_discrete_work_is_their_exact_work() {
 // ---------------------------------------------------------------------------------------------
 // Whole runs on the tutorial mesh (release mode)
 
-fn run(cfg: &Config) -> (Simulation, Vec<StepRecord>) {
-    let mesh = mesh::generate(cfg).expect("tutorial mesh");
-    let mut sim = Simulation::from_config(cfg, mesh).expect("set-up");
-    let mut records = vec![sim.record(0)];
-    for _ in 0..cfg.time.steps() {
-        records.push(sim.advance().expect("step converges"));
-    }
-    (sim, records)
-}
+use common::simulate as run;
 
 /// Largest `|E(t) − E(0)|` over the run, with the torque's work taken off \[J\].
 fn energy_error(records: &[StepRecord]) -> f64 {

@@ -2,6 +2,8 @@
 
 #[path = "common/plate.rs"]
 mod plate;
+#[path = "common/tools.rs"]
+mod tools;
 
 use std::collections::HashSet;
 use std::path::Path;
@@ -161,11 +163,24 @@ fn pvd_lists_every_written_frame_with_its_time_and_each_vtu_is_complete() {
         assert_eq!(file, &format!("frames/step_{step:05}.vtu"));
         let vtu = dir.join(file);
         assert!(paths.contains(&vtu));
-        let text = std::fs::read_to_string(&vtu).unwrap();
+        let text = String::from_utf8_lossy(&std::fs::read(&vtu).unwrap()).into_owned();
         assert!(text.contains(&format!(r#"NumberOfPoints="{}""#, mesh.num_nodes())));
-        for field in ["displacement", "velocity", "acceleration", "von_mises", "cauchy_stress"] {
+        for field in [
+            "displacement_m",
+            "velocity_m_s",
+            "acceleration_m_s2",
+            "von_mises_Pa",
+            "cauchy_stress_Pa",
+            "TimeValue",
+            "theta_rad",
+            "boundary_rotation",
+        ] {
             assert!(text.contains(&format!(r#"Name="{field}""#)), "{file} lacks {field}");
         }
+        assert!(
+            text.contains(r#"compressor="vtkZLibDataCompressor""#),
+            "{file} is not compressed"
+        );
         assert!(text.trim_end().ends_with("</VTKFile>"));
     }
     assert_eq!(
@@ -195,22 +210,59 @@ fn pvd_is_valid_while_the_run_is_still_going() {
     assert_eq!(pvd_entries(&dir.join("pendulum.pvd")).len(), 3);
 }
 
-fn meshio_available() -> bool {
-    std::process::Command::new("python3")
-        .args(["-c", "import meshio"])
+/// Reads every file with meshio and returns, per file, the points, every point and cell array and
+/// the field data as JSON, each array as the hex of its little-endian Float64 bytes (exact).
+fn meshio_dump(files: &[std::path::PathBuf]) -> Vec<serde_json::Value> {
+    let script = r#"
+import sys, json, meshio, numpy as np
+h = lambda v: np.ascontiguousarray(np.asarray(v, dtype="<f8")).tobytes().hex()
+for path in sys.argv[1:]:
+    m = meshio.read(path)
+    print(json.dumps({
+        "points": h(m.points),
+        "cells": {c.type: h(c.data) for c in m.cells},
+        "point_data": {k: h(v) for k, v in m.point_data.items()},
+        "cell_data": {k: h(np.concatenate(v)) for k, v in m.cell_data.items()},
+        "field_data": {k: h(v) for k, v in m.field_data.items()},
+    }))
+"#;
+    let out = std::process::Command::new("python3")
+        .args(["-c", script])
+        .args(files)
         .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "meshio failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    text.lines().map(|l| serde_json::from_str(l).unwrap()).collect()
+}
+
+/// The Float64 values of one hex-encoded array of [`meshio_dump`].
+fn floats(v: &serde_json::Value) -> Vec<f64> {
+    let hex = v.as_str().unwrap_or_else(|| panic!("not an array dump: {v}"));
+    (0..hex.len())
+        .step_by(16)
+        .map(|i| {
+            let bytes: Vec<u8> = (i..i + 16)
+                .step_by(2)
+                .map(|j| u8::from_str_radix(&hex[j..j + 2], 16).unwrap())
+                .collect();
+            f64::from_le_bytes(bytes.try_into().unwrap())
+        })
+        .collect()
 }
 
 #[test]
-fn every_vtu_frame_reads_back_with_meshio() {
-    if !meshio_available() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "meshio must be installed on CI (.ci/run installs it)"
-        );
-        eprintln!("note: python3 with meshio not found; skipping the meshio read-back");
+fn meshio_reads_every_frame_back_with_equal_values() {
+    if !tools::tool_or_skip(
+        "meshio_reads_every_frame_back_with_equal_values",
+        tools::python_module("meshio"),
+        "python3 with meshio",
+        "pip install meshio",
+    ) {
         return;
     }
     let dir = temp_dir("meshio");
@@ -221,39 +273,137 @@ fn every_vtu_frame_reads_back_with_meshio() {
         viewer: false,
         ..all_outputs()
     };
-    run(&dir, &mesh, &output, 2, 0.01);
+    let dt = 0.01;
+    run(&dir, &mesh, &output, 2, dt);
     let files: Vec<_> = pvd_entries(&dir.join("pendulum.pvd"))
         .into_iter()
         .map(|(_, f)| dir.join(f))
         .collect();
     assert_eq!(files.len(), 3);
-    let script = r#"
-import sys, meshio
-for path in sys.argv[1:]:
-    m = meshio.read(path)
-    print(len(m.points), sum(len(c.data) for c in m.cells if c.type == "triangle6"),
-          m.point_data["displacement"].shape[1], m.point_data["cauchy_stress"].shape[1],
-          float(abs(m.point_data["von_mises"]).max()))
-"#;
-    let out = std::process::Command::new("python3")
-        .args(["-c", script])
-        .args(&files)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "meshio failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8(out.stdout).unwrap();
-    assert_eq!(text.lines().count(), files.len(), "{text}");
-    for line in text.lines() {
-        let v: Vec<&str> = line.split_whitespace().collect();
-        assert_eq!(v[0].parse::<usize>().unwrap(), mesh.num_nodes(), "{line}");
-        assert_eq!(v[1].parse::<usize>().unwrap(), mesh.triangles.len(), "{line}");
-        assert_eq!((v[2], v[3]), ("3", "9"), "vector and tensor components: {line}");
-        assert!(v[4].parse::<f64>().unwrap() > 1e5, "{line}");
+    let dumps = meshio_dump(&files);
+    assert_eq!(dumps.len(), files.len());
+    let as_f32 = |v: f64| v as f32 as f64;
+    for (step, d) in dumps.iter().enumerate() {
+        let expected = synthetic_frame(&mesh, step, dt);
+        // Float64 arrays: bit-identical.
+        let points: Vec<f64> = mesh.nodes.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+        assert_eq!(floats(&d["points"]), points, "step {step}: points");
+        for (name, values) in [
+            ("displacement_m", &expected.displacement),
+            ("velocity_m_s", &expected.velocity),
+            ("acceleration_m_s2", &expected.acceleration),
+        ] {
+            let v: Vec<f64> = values.iter().flat_map(|x| [x[0], x[1], 0.0]).collect();
+            assert_eq!(floats(&d["point_data"][name]), v, "step {step}: {name}");
+        }
+        // Float32 stresses: equal to single precision (the stored value is the rounded one).
+        let vm: Vec<f64> = expected.von_mises.iter().map(|&v| as_f32(v)).collect();
+        assert_eq!(floats(&d["point_data"]["von_mises_Pa"]), vm, "step {step}: von Mises");
+        let cauchy: Vec<f64> = expected
+            .cauchy
+            .iter()
+            .flat_map(|s| [s[0], s[1], 0.0, s[2], 0.0, 0.0].map(as_f32))
+            .collect();
+        assert_eq!(
+            floats(&d["point_data"]["cauchy_stress_Pa"]),
+            cauchy,
+            "step {step}: Cauchy"
+        );
+        let conn: Vec<f64> = mesh.triangles.iter().flatten().map(|&n| n as f64).collect();
+        assert_eq!(floats(&d["cells"]["triangle6"]), conn, "step {step}: triangles");
+        let hinge: f64 = floats(&d["cell_data"]["boundary_rotation"]).iter().sum();
+        assert_eq!(
+            hinge as usize,
+            mesh.edges_named("rotation").count(),
+            "hinge edges flagged"
+        );
+        assert_eq!(floats(&d["field_data"]["TimeValue"]), vec![step as f64 * dt]);
+        assert_eq!(floats(&d["field_data"]["theta_rad"]), vec![expected.theta]);
     }
+}
+
+#[test]
+fn default_runs_paraview_frames_are_at_most_a_third_of_the_uncompressed_size() {
+    use pendulum_fem::commands::run::{run as run_job, RunOptions};
+    // Measured on main before compression (c709484): every frame of the default run was an
+    // uncompressed base64 VTU of 734,827 bytes (74.2 MB for the 101 frames).
+    const UNCOMPRESSED_FRAME_BYTES: u64 = 734_827;
+    let dir = temp_dir("default-size");
+    let mut config = pendulum_fem::Config::default();
+    config.output.plots = false;
+    config.output.animation = false;
+    config.output.viewer = false;
+    let opts = RunOptions {
+        config,
+        out: Some(dir.clone()),
+        force: false,
+        quiet: true,
+        stop: None,
+    };
+    run_job(&opts).unwrap();
+    let sizes: Vec<u64> = std::fs::read_dir(dir.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().metadata().unwrap().len())
+        .collect();
+    assert_eq!(sizes.len(), 101);
+    let total: u64 = sizes.iter().sum();
+    let ratio = total as f64 / (sizes.len() as u64 * UNCOMPRESSED_FRAME_BYTES) as f64;
+    eprintln!(
+        "default run: {total} bytes in {} frames, {ratio:.3} of the uncompressed size",
+        sizes.len()
+    );
+    assert!(ratio <= 1.0 / 3.0, "frames are {ratio:.3} of the uncompressed size");
+}
+
+#[test]
+fn paraview_and_pictures_thin_separately_and_both_end_on_the_last_step() {
+    let dir = temp_dir("thinning");
+    let mesh = plate_mesh(1, 3);
+    let output = Output {
+        every: 7,
+        paraview_every: Some(4),
+        plots: false,
+        viewer: false,
+        ..all_outputs()
+    };
+    let dt = 0.01;
+    let steps = 22;
+    write_results_csv(&dir, steps, dt);
+    let mut w = FrameWriters::new(&dir, &mesh, &output, None).unwrap();
+    let frames: Vec<_> = (0..=steps).map(|s| synthetic_frame(&mesh, s, dt)).collect();
+    for f in &frames {
+        w.frame(&f.frame()).unwrap();
+    }
+    w.last_frame(&frames[steps].frame()).unwrap();
+    w.finish().unwrap();
+    let written: Vec<String> = pvd_entries(&dir.join("pendulum.pvd"))
+        .into_iter()
+        .map(|(_, f)| f)
+        .collect();
+    let expected: Vec<String> = [0, 4, 8, 12, 16, 20, 22]
+        .iter()
+        .map(|s| format!("frames/step_{s:05}.vtu"))
+        .collect();
+    assert_eq!(written, expected);
+    let (gif_frames, _, _) = decode_gif(&dir.join("von_mises.gif"));
+    assert_eq!(gif_frames, 5, "steps 0, 7, 14, 21 and the last, 22");
+}
+
+#[test]
+fn a_run_whose_frames_would_exceed_a_gigabyte_is_warned_about_with_the_keys_to_change() {
+    use pendulum_fem::commands::run::output_size_warning;
+    let mesh = pendulum_fem::mesh::generate(&pendulum_fem::Config::default()).unwrap();
+    let mut cfg = pendulum_fem::Config::default();
+    assert_eq!(
+        output_size_warning(&cfg, &mesh),
+        None,
+        "the default run writes about 25 MB"
+    );
+    cfg.time.end = 50.0;
+    let w = output_size_warning(&cfg, &mesh).expect("5000 frames of 0.24 MB");
+    assert!(w.contains("GB") && w.contains("output.paraview_every"), "{w}");
+    cfg.output.paraview_every = Some(10);
+    assert_eq!(output_size_warning(&cfg, &mesh), None, "500 frames are 0.12 GB");
 }
 
 #[test]

@@ -9,24 +9,17 @@
 //! The comparisons with NGSolve use NGSolve's scheme, `time.scheme = "trapezoidal"`, set
 //! explicitly; the other claims hold for the default energy-momentum scheme.
 
+mod common;
+
 use pendulum_fem::config::{InitialAcceleration, InitialElastic, Scheme};
 use pendulum_fem::io::csv::read_numeric_csv;
 use pendulum_fem::post::PeriodEstimator;
-use pendulum_fem::simulation::{Simulation, StepRecord};
-use pendulum_fem::{mesh, Config};
+use pendulum_fem::Config;
 
 const EXACT_MASS: f64 = 1.084295939; // kg
 const EXACT_PERIOD_20_DEG: f64 = 0.957885229; // s
 
-fn simulate(cfg: &Config) -> (Simulation, Vec<StepRecord>) {
-    let mesh = mesh::generate(cfg).expect("tutorial mesh");
-    let mut sim = Simulation::from_config(cfg, mesh).expect("set-up");
-    let mut records = vec![sim.record(0)];
-    for _ in 0..cfg.time.steps() {
-        records.push(sim.advance().expect("step converges"));
-    }
-    (sim, records)
-}
+use common::simulate;
 
 fn reference(name: &str) -> Vec<(f64, f64, f64)> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))

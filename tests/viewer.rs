@@ -1,8 +1,11 @@
 //! The HTML viewer: one self-contained file that draws and responds to its controls, checked in
-//! headless Chromium (`.ci/run` installs it; elsewhere the browser tests skip with a note).
+//! headless Chromium (`.ci/run` installs it; elsewhere the browser tests skip with a visible
+//! warning, and fail when `CI` is set).
 
 #[path = "common/plate.rs"]
 mod plate;
+#[path = "common/tools.rs"]
+mod tools;
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -81,25 +84,11 @@ fn viewer_is_one_self_contained_file_with_the_kept_frames_embedded() {
     );
 }
 
-/// The Chromium binary, or `None` (with a note) when it is missing outside CI.
-fn chromium() -> Option<PathBuf> {
-    let found = ["chromium", "chromium-browser", "google-chrome"]
-        .iter()
-        .find_map(|name| {
-            std::env::var_os("PATH").and_then(|paths| {
-                std::env::split_paths(&paths)
-                    .map(|d| d.join(name))
-                    .find(|p| p.is_file())
-            })
-        });
-    if found.is_none() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "chromium must be installed on CI (.ci/run installs it)"
-        );
-        eprintln!("note: chromium not found; skipping the browser test");
-    }
-    found
+/// The Chromium binary; `None` (after a visible warning) when it is missing outside CI, a failure on CI.
+#[track_caller]
+fn chromium(test: &str) -> Option<PathBuf> {
+    let found = tools::on_path(&["chromium", "chromium-browser", "google-chrome"]);
+    tools::tool_or_skip(test, found.is_some(), "chromium", "apt-get install chromium").then_some(found?)
 }
 
 /// Runs headless Chromium with `args` and a fresh profile; returns stdout. Fails after 90 s.
@@ -151,7 +140,9 @@ fn file_url(path: &Path) -> String {
 
 #[test]
 fn viewer_draws_and_the_slider_and_field_selector_change_the_picture_in_chromium() {
-    let Some(chrome) = chromium() else { return };
+    let Some(chrome) = chromium("viewer_draws_and_the_slider_and_field_selector_change_the_picture_in_chromium") else {
+        return;
+    };
     let (path, _) = viewer_file("viewer-selftest");
     let dom = run_chromium(&chrome, &["--dump-dom".into(), format!("{}#selftest", file_url(&path))]);
     let start =
@@ -180,7 +171,9 @@ fn viewer_draws_and_the_slider_and_field_selector_change_the_picture_in_chromium
 
 #[test]
 fn viewer_screenshot_in_chromium_is_not_blank() {
-    let Some(chrome) = chromium() else { return };
+    let Some(chrome) = chromium("viewer_screenshot_in_chromium_is_not_blank") else {
+        return;
+    };
     let (path, _) = viewer_file("viewer-screenshot");
     let shot = path.with_file_name("screenshot.png");
     run_chromium(

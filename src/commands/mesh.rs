@@ -85,6 +85,9 @@ impl MeshReport {
 pub fn mesh_command(cfg: &Config, out_dir: &Path, json: bool) -> Result<(), Error> {
     let start = Instant::now();
     let mesh = mesh::generate(cfg)?;
+    if let Some(warning) = mesh::max_size_warning(cfg, &mesh) {
+        eprintln!("{warning}");
+    }
     let seconds = start.elapsed().as_secs_f64();
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     gmsh::write_msh(&out_dir.join("mesh.msh"), &mesh)?;

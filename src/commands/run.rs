@@ -1,6 +1,10 @@
-//! `pendulum-fem run`: mesh, simulate, stream `results.csv`, summarise.
+//! `pendulum-fem run`: mesh, simulate, stream `results.csv`, summarise, and leave a consistent run
+//! folder however the run ends (completed, interrupted at a step boundary, or failed; see
+//! [`run_with_outputs`]).
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 use crate::io::csv::CsvWriter;
@@ -21,6 +25,9 @@ pub struct RunOptions {
     pub force: bool,
     /// No progress output.
     pub quiet: bool,
+    /// When set (by a Ctrl-C or SIGTERM handler), the run stops at the next step boundary and
+    /// finishes its outputs with what was computed ([`RunEnd::Interrupted`]).
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 /// Figures of a finished run.
@@ -36,8 +43,15 @@ pub struct RunSummary {
     pub mesh_nodes: usize,
     /// Unknowns (displacements + 2 multipliers).
     pub unknowns: usize,
+    /// How the run ended.
+    pub end: RunEnd,
     /// Steps computed.
     pub steps: usize,
+    /// Time of the last state computed \[s\].
+    pub time_reached: f64,
+    /// The length of a shortened last step that lands on `time.end` \[s\], when `time.end` is
+    /// not a multiple of `time.dt` (see [`StepPlan`]).
+    pub last_step: Option<f64>,
     /// Newton iterations (linear solves) over all steps.
     pub newton_iterations: usize,
     /// Numeric factorisations over the run.
@@ -52,8 +66,11 @@ pub struct RunSummary {
     pub period: Option<f64>,
     /// Largest von Mises stress over the run \[Pa\].
     pub von_mises_max: f64,
-    /// Largest |E(t) − E(0)| divided by the largest kinetic energy.
-    pub energy_drift: f64,
+    /// Largest energy error over the run, `max |E(t) − E(0) − W(t)| / energy_scale` (see
+    /// [`EnergyAudit`]).
+    pub energy_error: f64,
+    /// The energy scale of the run \[J\] (see [`EnergyAudit`]).
+    pub energy_scale: f64,
     /// Wall time: meshing \[s\].
     pub seconds_mesh: f64,
     /// Wall time: set-up (operators, symbolic factorisation) \[s\].
@@ -107,17 +124,98 @@ pub fn run_with(
     run_with_outputs(opts, out_dir, false, observe)
 }
 
+/// The steps of a run: `full` steps of `time.dt`, then, when `time.end` is not a multiple of
+/// `time.dt` (to 1e-9 relative), one shorter `last` step that lands exactly on `time.end`.
+/// `time.end = 0.015` with `dt = 0.01`: one step to 0.01, one of 0.005 to 0.015.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepPlan {
+    /// Steps of `time.dt`.
+    pub full: usize,
+    /// Length of the shortened last step \[s\], if any.
+    pub last: Option<f64>,
+}
+
+impl StepPlan {
+    /// The plan of a time section.
+    pub fn of(time: &crate::config::Time) -> Self {
+        let x = time.end / time.dt;
+        let n = x.round();
+        if (x - n).abs() <= 1e-9 * x.max(1.0) {
+            Self {
+                full: n as usize,
+                last: None,
+            }
+        } else {
+            let full = x.floor();
+            Self {
+                full: full as usize,
+                last: Some(time.end - full * time.dt),
+            }
+        }
+    }
+
+    /// Steps in all.
+    pub fn steps(&self) -> usize {
+        self.full + usize::from(self.last.is_some())
+    }
+}
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RunEnd {
+    /// Reached `time.end`.
+    #[default]
+    Completed,
+    /// Stopped at a step boundary because [`RunOptions::stop`] was set (Ctrl-C, SIGTERM).
+    Interrupted,
+}
+
 /// Runs the simulation into `out_dir`; with `frames` also the ParaView files, animations, plots
 /// and the viewer (as `output.*` selects).
+///
+/// Whatever happens, the folder stays consistent: `status.json` says `"running"` from the start
+/// and `"ok"`, `"interrupted"` or `"failed"` (with the error) at the end, with the last step and
+/// time reached. When a step fails or the run is interrupted, `results.csv` is complete up to the
+/// last step computed, that step is written as the last frame, and the plots, animations and
+/// viewer show what was computed; a failure is then returned as the error.
 pub fn run_with_outputs(
     opts: &RunOptions,
     out_dir: PathBuf,
     frames: bool,
+    observe: impl FnMut(&Simulation, &StepRecord) -> Result<(), Error>,
+) -> Result<RunSummary, Error> {
+    let status_path = out_dir.join(crate::io::status::STATUS_JSON);
+    let end_time = opts.config.time.end;
+    crate::io::status::RunStatus::running(end_time).write(&status_path)?;
+    let mut reached = None;
+    let result = run_steps(opts, out_dir, frames, observe, &mut reached);
+    let status = match &result {
+        Ok(s) if s.end == RunEnd::Interrupted => crate::io::status::RunStatus::interrupted(end_time, reached),
+        Ok(_) => crate::io::status::RunStatus::ok(end_time, reached),
+        Err(e) => crate::io::status::RunStatus::failed(end_time, reached, e),
+    };
+    // A run that failed reports its own error, not a failure to write the status.
+    let written = status.write(&status_path);
+    let mut summary = result?;
+    written?;
+    summary.files.push(status_path);
+    Ok(summary)
+}
+
+/// The run proper; `reached` follows the last step written to `results.csv` (step, time).
+fn run_steps(
+    opts: &RunOptions,
+    out_dir: PathBuf,
+    frames: bool,
     mut observe: impl FnMut(&Simulation, &StepRecord) -> Result<(), Error>,
+    reached: &mut Option<(usize, f64)>,
 ) -> Result<RunSummary, Error> {
     let start = Instant::now();
     let cfg = &opts.config;
     let mesh = mesh::generate(cfg)?;
+    if let Some(warning) = mesh::max_size_warning(cfg, &mesh) {
+        eprintln!("{warning}");
+    }
     let seconds_mesh = start.elapsed().as_secs_f64();
     let t_setup = Instant::now();
     let mut sim = Simulation::from_config(cfg, mesh)?;
@@ -135,6 +233,11 @@ pub fn run_with_outputs(
     };
     let o = &cfg.output;
     let wants_frames = frames && (o.paraview || o.animation || o.viewer);
+    if frames && o.paraview {
+        if let Some(warning) = output_size_warning(cfg, &sim.model.mesh) {
+            eprintln!("{warning}");
+        }
+    }
     let mut writers = match frames {
         true => Some(FrameWriter::start(FrameWriters::new(
             &out_dir,
@@ -149,51 +252,98 @@ pub fn run_with_outputs(
     } else {
         ProgressMode::detect(false)
     };
-    let mut progress = Progress::new(cfg.time.steps(), mode);
-    let every = cfg.output.every;
+    let mut progress = Progress::new(StepPlan::of(&cfg.time).steps(), mode);
     let mut seconds_outputs = 0.0;
     let mut period = PeriodEstimator::default();
-    let (mut e0, mut kin_max, mut drift) = (None, 0.0f64, 0.0f64);
-    let steps = cfg.time.steps();
+    let mut audit = EnergyAudit::new(EnergyAudit::floor_of(&sim.model));
+    let plan = StepPlan::of(&cfg.time);
+    summary.last_step = plan.last;
+    let stop_requested = || opts.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst));
     let mut record = sim.record(0);
-    loop {
-        csv.row(&csv_values(&record))?;
+    // The loop ends with `Ok(())` (completed or interrupted) or the error that stopped it; the
+    // outputs of what was computed are finished either way.
+    let stopped: Result<(), Error> = loop {
+        if let Err(e) = csv.row(&csv_values(&record)) {
+            break Err(e);
+        }
+        *reached = Some((record.step, record.time));
         if let Some(w) = writers.as_mut() {
-            if wants_frames && record.step.is_multiple_of(every) {
+            if wants_frames && w.wants(record.step) {
                 let t_out = Instant::now();
-                w.send(sim.frame_data(record.theta))?;
+                if let Err(e) = w.send(sim.frame_data(record.theta), false) {
+                    break Err(e);
+                }
                 seconds_outputs += t_out.elapsed().as_secs_f64();
             }
         }
-        observe(&sim, &record)?;
+        if let Err(e) = observe(&sim, &record) {
+            break Err(e);
+        }
         progress.update(record.step, record.time, sim.total_iterations);
         period.push(record.time, record.theta);
         summary.theta_range.0 = summary.theta_range.0.min(record.theta);
         summary.theta_range.1 = summary.theta_range.1.max(record.theta);
         summary.von_mises_max = summary.von_mises_max.max(record.von_mises_max);
-        let e_ref = *e0.get_or_insert(record.total);
-        kin_max = kin_max.max(record.kinetic);
-        drift = drift.max((record.total - e_ref).abs());
         summary.theta_final = record.theta;
-        if sim.step >= steps {
-            break;
+        let error = audit.push(&record);
+        if cfg.output.energy_watchdog > 0.0 && error > cfg.output.energy_watchdog {
+            break Err(audit.divergence(&record, cfg.output.energy_watchdog));
         }
-        record = sim.advance()?;
-    }
-    summary.files.push(csv.finish()?);
+        if sim.step >= plan.steps() {
+            break Ok(());
+        }
+        if stop_requested() {
+            summary.end = RunEnd::Interrupted;
+            break Ok(());
+        }
+        let next = if sim.step < plan.full {
+            sim.advance()
+        } else {
+            sim.advance_to(cfg.time.end)
+        };
+        match next {
+            Ok(r) => record = r,
+            Err(e) => break Err(e),
+        }
+    };
     progress.finish();
+    // Finish every output with what was computed; the first error wins.
+    let mut first_error = stopped.err();
+    if let (true, Some(w)) = (wants_frames, writers.as_mut()) {
+        let t_out = Instant::now();
+        if let Err(e) = w.send(sim.frame_data(record.theta), true) {
+            first_error.get_or_insert(e);
+        }
+        seconds_outputs += t_out.elapsed().as_secs_f64();
+    }
+    match csv.finish() {
+        Ok(path) => summary.files.push(path),
+        Err(e) => {
+            first_error.get_or_insert(e);
+        }
+    }
     if let Some(w) = writers {
         let t_out = Instant::now();
-        summary.files.extend(w.finish()?);
+        match w.finish() {
+            Ok(paths) => summary.files.extend(paths),
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
         seconds_outputs += t_out.elapsed().as_secs_f64();
+    }
+    if let Some(e) = first_error {
+        return Err(e);
     }
     summary.seconds_outputs = seconds_outputs;
     summary.steps = sim.step;
+    summary.time_reached = sim.state.t;
     summary.newton_iterations = sim.total_iterations;
     summary.factorizations = sim.total_factorizations;
     summary.cutbacks = sim.cutbacks;
     summary.period = period.period();
-    summary.energy_drift = if kin_max > 0.0 { drift / kin_max } else { 0.0 };
+    summary.energy_error = audit.error();
+    summary.energy_scale = audit.scale();
     summary.timings = sim.timings();
     summary.seconds_mesh = seconds_mesh;
     summary.seconds_setup = seconds_setup;
@@ -202,12 +352,132 @@ pub fn run_with_outputs(
     Ok(summary)
 }
 
+/// The energy balance of a run, fed one [`StepRecord`] at a time.
+///
+/// The **energy error** at step n is `|ΔE − W| / scale`, with `ΔE = E_total(tₙ) − E_total(0)` and
+/// `W` the work of the torque up to tₙ (`torque_work_J`): without external work the total energy is
+/// conserved, so whatever remains is the integrator's (or a divergence's) doing. The **energy
+/// scale** is the largest of: the largest kinetic energy, the largest changes of the gravitational
+/// and of the strain energy, the largest |W|, and a floor of `10⁻³ m g₀ L` (`m` the mass, `L` the
+/// largest distance of a node from the pivot, `g₀ = 9.81 m/s²` even when `gravity.g = 0`: a
+/// thousandth of the work to lift the body by its own length), so the scale is never near zero,
+/// also for a body that barely moves. The scale grows with the run: the watchdog judges step n with
+/// the scale up to n, [`EnergyAudit::error`] the whole run with the final scale.
+#[derive(Clone, Debug)]
+pub struct EnergyAudit {
+    first: Option<StepRecord>,
+    floor: f64,
+    scale: f64,
+    /// Largest `|ΔE − W|` \[J\].
+    largest_defect: f64,
+}
+
+/// `g₀` of the energy floor \[m/s²\].
+const STANDARD_GRAVITY: f64 = 9.81;
+
+impl EnergyAudit {
+    /// An audit with the given floor of the energy scale \[J\].
+    pub fn new(floor: f64) -> Self {
+        Self {
+            first: None,
+            floor,
+            scale: floor,
+            largest_defect: 0.0,
+        }
+    }
+
+    /// The floor `10⁻³ m g₀ L` of a model \[J\].
+    pub fn floor_of(model: &crate::simulation::Model) -> f64 {
+        1e-3 * model.mass_kg() * STANDARD_GRAVITY * model.length_scale()
+    }
+
+    /// Takes the next record; returns its energy error judged with the scale so far.
+    pub fn push(&mut self, r: &StepRecord) -> f64 {
+        let first = self.first.get_or_insert_with(|| r.clone());
+        let changes = [
+            r.kinetic,
+            first.kinetic,
+            (r.gravity - first.gravity).abs(),
+            (r.strain - first.strain).abs(),
+            r.torque_work.abs(),
+        ];
+        self.scale = changes.into_iter().fold(self.scale, f64::max);
+        let defect = (r.total - first.total - r.torque_work).abs();
+        self.largest_defect = self.largest_defect.max(defect);
+        defect / self.scale
+    }
+
+    /// The floor of the energy scale \[J\].
+    pub fn floor(&self) -> f64 {
+        self.floor
+    }
+
+    /// The energy scale so far \[J\].
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// The largest energy error so far, with the current scale.
+    pub fn error(&self) -> f64 {
+        self.largest_defect / self.scale
+    }
+
+    /// The watchdog's error for `r`: time, energies and what to try.
+    pub fn divergence(&self, r: &StepRecord, limit: f64) -> Error {
+        let first = self.first.as_ref().unwrap_or(r);
+        let defect = r.total - first.total - r.torque_work;
+        Error::Divergence {
+            step: r.step,
+            t: r.time,
+            message: format!(
+                "energy error {:.3e} of the energy scale {:.4e} J exceeds output.energy_watchdog = {limit}: \
+                 the total energy changed by {:.4e} J while the torque did {:.4e} J of work (now kinetic {:.4e} J, \
+                 strain {:.4e} J, gravity {:.4e} J). The step is probably too large for this motion: try a smaller \
+                 time.dt or time.max_rotation_deg, or time.scheme = \"hht\"; output.energy_watchdog = 0 runs on \
+                 regardless",
+                defect.abs() / self.scale,
+                self.scale,
+                r.total - first.total,
+                r.torque_work,
+                r.kinetic,
+                r.strain,
+                r.gravity
+            ),
+        }
+    }
+}
+
+/// Estimated output above which a run warns before it starts \[bytes\].
+pub const LARGE_OUTPUT_BYTES: u64 = 1_000_000_000;
+
+/// A warning naming the estimated size of the ParaView frames when it exceeds
+/// [`LARGE_OUTPUT_BYTES`], with the keys that reduce it; `None` below.
+pub fn output_size_warning(cfg: &crate::Config, mesh: &crate::Mesh) -> Option<String> {
+    let steps = StepPlan::of(&cfg.time).steps();
+    let stride = cfg.output.paraview_stride();
+    let frames = (steps / stride + 2) as u64;
+    let per_frame = crate::io::pvd::estimated_frame_bytes(mesh);
+    let total = frames * per_frame;
+    (total > LARGE_OUTPUT_BYTES).then(|| {
+        let suggested = (total / (LARGE_OUTPUT_BYTES / 2)).max(2) * stride as u64;
+        format!(
+            "warning: this run will write about {:.1} GB of ParaView frames ({frames} frames of about {:.2} MB); \
+             set output.paraview_every = {suggested} (or more) or output.paraview = false to write less",
+            total as f64 / 1e9,
+            per_frame as f64 / 1e6
+        )
+    })
+}
+
 /// Frame outputs written on a thread of their own, so that serialising ParaView files and keeping
 /// frames for the pictures overlaps the time stepping. The channel holds at most
 /// [`FRAME_QUEUE`] frames, so memory stays bounded when the writer falls behind.
 struct FrameWriter {
-    sender: Option<std::sync::mpsc::SyncSender<crate::simulation::FrameData>>,
+    /// Frames and whether each is the run's last.
+    sender: Option<std::sync::mpsc::SyncSender<(crate::simulation::FrameData, bool)>>,
     handle: Option<std::thread::JoinHandle<Result<FrameWriters, Error>>>,
+    /// The thinning of the writers (they live on the thread).
+    wants: crate::io::writers::Thinning,
 }
 
 /// Frames waiting for the writer thread at most.
@@ -215,22 +485,38 @@ const FRAME_QUEUE: usize = 4;
 
 impl FrameWriter {
     fn start(mut writers: FrameWriters) -> Self {
-        let (sender, receiver) = std::sync::mpsc::sync_channel::<crate::simulation::FrameData>(FRAME_QUEUE);
+        let wants = writers.clone_thinning();
+        let (sender, receiver) = std::sync::mpsc::sync_channel::<(crate::simulation::FrameData, bool)>(FRAME_QUEUE);
         let handle = std::thread::spawn(move || {
-            for data in receiver {
-                writers.frame(&data.as_frame())?;
+            for (data, last) in receiver {
+                if last {
+                    writers.last_frame(&data.as_frame())?;
+                } else {
+                    writers.frame(&data.as_frame())?;
+                }
             }
             Ok(writers)
         });
         Self {
             sender: Some(sender),
             handle: Some(handle),
+            wants,
         }
     }
 
-    /// Queues a frame; if the writer thread has stopped with an error, returns that error.
-    fn send(&mut self, data: crate::simulation::FrameData) -> Result<(), Error> {
-        let sent = self.sender.as_ref().map(|s| s.send(data).is_ok()).unwrap_or(false);
+    /// Whether the writers take a frame of `step` (see [`FrameWriters::wants`]).
+    fn wants(&self, step: usize) -> bool {
+        self.wants.wants(step)
+    }
+
+    /// Queues a frame (`last`: the last state of the run); if the writer thread has stopped with an
+    /// error, returns that error.
+    fn send(&mut self, data: crate::simulation::FrameData, last: bool) -> Result<(), Error> {
+        let sent = self
+            .sender
+            .as_ref()
+            .map(|s| s.send((data, last)).is_ok())
+            .unwrap_or(false);
         if sent {
             return Ok(());
         }

@@ -1,13 +1,16 @@
-//! Writers and readers: VTU/PVD for ParaView, Gmsh `.msh`, CSV, plots, animations, the HTML viewer.
+//! Writers and readers: VTU/PVD for ParaView, Gmsh `.msh` (written and read), CSV, plots, animations,
+//! the HTML viewer, the run status.
 
 pub mod anim;
 pub mod csv;
 mod font;
 pub mod gmsh;
+pub mod gmsh_read;
 pub mod outdir;
 pub mod plot;
 pub mod pvd;
 mod raster;
+pub mod status;
 pub mod viewer;
 pub mod vtm;
 pub mod vtu;
@@ -25,6 +28,29 @@ pub enum FieldData<'a> {
     Vector(&'a [[f64; 2]]),
     /// Symmetric 2-D tensor `[xx, yy, xy]` per node.
     Tensor(&'a [[f64; 3]]),
+    /// One value per node, stored as Float32 (about seven significant digits).
+    Scalar32(&'a [f64]),
+    /// Symmetric 2-D tensor `[xx, yy, xy]` per node, stored as Float32.
+    Tensor32(&'a [[f64; 3]]),
+    /// A small non-negative integer per entry (a flag or an index), stored as UInt8.
+    Label(&'a [u8]),
+}
+
+impl FieldData<'_> {
+    /// Number of entries (nodes or cells).
+    pub fn len(&self) -> usize {
+        match self {
+            Self::Scalar(v) | Self::Scalar32(v) => v.len(),
+            Self::Vector(v) => v.len(),
+            Self::Tensor(v) | Self::Tensor32(v) => v.len(),
+            Self::Label(v) => v.len(),
+        }
+    }
+
+    /// Whether there are no entries.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
 }
 
 /// A named nodal field.

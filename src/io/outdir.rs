@@ -6,8 +6,11 @@
 //!   symbolic link on Unix, replaced atomically (link under a temporary name, then rename); where
 //!   links cannot be made, `BASE/latest.txt` holds the folder name instead.
 //! - An explicit folder (`--out`) is used as it is; if it exists and holds anything, the run is
-//!   refused unless `force` is set, and the refusal changes nothing on disk. Call
-//!   [`prepare_output_dir`] before any computing, so a refused run costs nothing.
+//!   refused unless `force` is set, and the refusal changes nothing on disk. With `force`, every
+//!   file a run writes ([`RUN_FILES`], `frames/step_*.vtu` and unfinished `*.partial` files) is
+//!   removed first, so no file of an earlier (say longer) run survives to mix with the new one;
+//!   other files are left alone. Call [`prepare_output_dir`] before any computing, so a refused run
+//!   costs nothing.
 
 use std::path::{Path, PathBuf};
 
@@ -17,6 +20,51 @@ use crate::Error;
 pub const RUN_PREFIX: &str = "run-";
 /// Name of the pointer to the newest run folder.
 pub const LATEST: &str = "latest";
+
+/// Files a run may write at the top of its folder (besides `frames/`).
+pub const RUN_FILES: [&str; 8] = [
+    "results.csv",
+    super::status::STATUS_JSON,
+    "theta.png",
+    "energy.png",
+    "displacement.gif",
+    "von_mises.gif",
+    "viewer.html",
+    super::pvd::PVD_NAME,
+];
+
+/// Removes what a run writes from `dir` (see the module documentation); `frames/` goes too when
+/// nothing else is left in it.
+pub fn clear_run_outputs(dir: &Path) -> Result<(), Error> {
+    let remove = |path: &Path| match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io(path, e)),
+        _ => Ok(()),
+    };
+    let is_run_file = |name: &str| {
+        RUN_FILES
+            .iter()
+            .any(|f| name == *f || name.starts_with(&format!("{f}.")))
+    };
+    for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
+        let entry = entry.map_err(|e| Error::io(dir, e))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if RUN_FILES.contains(&name.as_str()) || (is_run_file(&name) && name.ends_with(".partial")) {
+            remove(&entry.path())?;
+        }
+    }
+    let frames = dir.join(super::pvd::FRAMES_DIR);
+    if frames.is_dir() {
+        for entry in std::fs::read_dir(&frames).map_err(|e| Error::io(&frames, e))? {
+            let entry = entry.map_err(|e| Error::io(&frames, e))?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if name.starts_with("step_") && (name.ends_with(".vtu") || name.ends_with(".partial")) {
+                remove(&entry.path())?;
+            }
+        }
+        let _ = std::fs::remove_dir(&frames); // only if empty
+    }
+    Ok(())
+}
 
 /// Returns the folder this run writes to, created and empty (unless `force` let an explicit,
 /// non-empty one through). See the module documentation for the rules.
@@ -42,10 +90,13 @@ fn prepare_explicit(dir: &Path, force: bool) -> Result<PathBuf, Error> {
             if entries.next().is_some() && !force {
                 return Err(Error::Config(format!(
                     "--out {}: the folder is not empty; refusing to write into it (nothing was changed). \
-                     Pass --force to write there anyway (files of the same names are overwritten), \
-                     or choose another folder",
+                     Pass --force to write there anyway (the outputs of an earlier run are removed first, \
+                     other files are kept), or choose another folder",
                     dir.display()
                 )));
+            }
+            if force {
+                clear_run_outputs(dir)?;
             }
             Ok(dir.to_path_buf())
         }

@@ -3,13 +3,18 @@
 //!
 //! - `theta.png`: the rigid-body angle proxy θ(t) in degrees, with dashed lines at ±θ_max, as in
 //!   the tutorial's matplotlib figure (θ_max = |θ(0)|, the release angle, like the tutorial's
-//!   `theta_vals[0]`; when the run starts at θ = 0, the largest |θ| instead).
-//! - `energy.png`: kinetic, strain, gravitational and total energy \[J\] over time. The strain
-//!   energy of a steel pendulum is about a millionth of the others and would lie flat on zero, so
-//!   a second panel shows it alone on its own scale; the figure's caption states the ratio.
+//!   `theta_vals[0]`; when the run starts at θ = 0, the largest |θ| instead). With an applied
+//!   torque the release angle bounds nothing, so the lines are left out and the torque M(t) is
+//!   drawn instead, on its own axis at the right.
+//! - `energy.png`: the kinetic energy and the *changes* since t = 0 of the gravitational and the
+//!   total energy \[J\] (and, with a torque, the work it has done), so every curve lives on the
+//!   scale of the motion: the gravitational energy itself (about −2 J for the default pendulum,
+//!   measured from the pivot) would squeeze a 0.12 J kinetic energy flat. The strain energy of a
+//!   steel pendulum is about a millionth of the others and would lie flat on zero, so a second
+//!   panel shows it alone on its own scale; the figure's caption states the ratio.
 //!
 //! `results.csv` is read by column name (`time_s`, `theta_rad`, `kinetic_J`, `strain_J`,
-//! `gravity_J`, `total_J`); more columns are ignored. Drawing uses plotters' bitmap backend into an
+//! `gravity_J`, `total_J`, and `torque_Nm`, `torque_work_J` when present); more columns are ignored. Drawing uses plotters' bitmap backend into an
 //! RGB buffer with the shipped font (`font.rs`); the PNG is encoded with the `png` crate and
 //! written atomically.
 
@@ -35,6 +40,10 @@ pub struct History {
     pub gravity: Vec<f64>,
     /// Total energy \[J\].
     pub total: Vec<f64>,
+    /// Applied torque \[N m\] (empty when the CSV has no `torque_Nm` column).
+    pub torque: Vec<f64>,
+    /// Work of the torque \[J\] (empty when the CSV has no `torque_work_J` column).
+    pub torque_work: Vec<f64>,
 }
 
 impl History {
@@ -66,11 +75,14 @@ impl History {
             col("gravity_J")?,
             col("total_J")?,
         ];
+        let optional = [col("torque_Nm").ok(), col("torque_work_J").ok()];
         let mut h = History::default();
         for (i, line) in lines {
             let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-            let mut v = [0.0; 6];
-            for (k, &c) in idx.iter().enumerate() {
+            let mut v = [0.0; 8];
+            let present = idx.iter().copied().map(Some).chain(optional);
+            for (k, c) in present.enumerate() {
+                let Some(c) = c else { continue };
                 let cell = cells
                     .get(c)
                     .ok_or_else(|| format!("line {}: {} cells, expected at least {}", i + 1, cells.len(), c + 1))?;
@@ -84,8 +96,38 @@ impl History {
             h.strain.push(v[3]);
             h.gravity.push(v[4]);
             h.total.push(v[5]);
+            if optional[0].is_some() {
+                h.torque.push(v[6]);
+            }
+            if optional[1].is_some() {
+                h.torque_work.push(v[7]);
+            }
         }
         Ok(h)
+    }
+
+    /// Whether a torque was applied at some time.
+    pub fn has_torque(&self) -> bool {
+        self.torque.iter().any(|m| *m != 0.0)
+    }
+
+    /// The curves of the upper energy panel, `(label, values)`: the kinetic energy, the changes of
+    /// the gravitational and the total energy since the first row, and the torque's work when
+    /// there is a torque.
+    pub fn energy_curves(&self) -> Vec<(&'static str, Vec<f64>)> {
+        let change = |v: &[f64]| {
+            let v0 = v.first().copied().unwrap_or(0.0);
+            v.iter().map(|x| x - v0).collect::<Vec<f64>>()
+        };
+        let mut curves = vec![
+            ("kinetic", self.kinetic.clone()),
+            ("gravitational − its start value", change(&self.gravity)),
+            ("total − its start value", change(&self.total)),
+        ];
+        if self.has_torque() && self.torque_work.len() == self.time.len() {
+            curves.push(("work of the torque", self.torque_work.clone()));
+        }
+        curves
     }
 }
 
@@ -182,13 +224,18 @@ fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
         deg.iter().fold(0.0f64, |a, v| a.max(v.abs()))
     };
     let (t0, t1) = time_range(h);
-    let (lo, hi) = with_legend_room(range_of(deg.iter().chain([theta_max, -theta_max].iter())));
+    let torque = h.has_torque() && h.torque.len() == h.time.len();
+    let bounds: &[f64] = if torque { &[] } else { &[theta_max, -theta_max] };
+    let (lo, hi) = with_legend_room(range_of(deg.iter().chain(bounds)));
+    let (mlo, mhi) = with_legend_room(range_of(h.torque.iter().chain([0.0].iter())));
     let mut chart = ChartBuilder::on(root)
         .caption("Rigid-body angle proxy θ(t)", ("sans-serif", 26))
         .margin(16)
         .x_label_area_size(50)
         .y_label_area_size(70)
-        .build_cartesian_2d(t0..t1, lo..hi)?;
+        .right_y_label_area_size(if torque { 80 } else { 0 })
+        .build_cartesian_2d(t0..t1, lo..hi)?
+        .set_secondary_coord(t0..t1, mlo..mhi);
     let (xs, ys) = (t1 - t0, hi - lo);
     chart
         .configure_mesh()
@@ -210,7 +257,30 @@ fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
     if points.len() <= 250 {
         chart.draw_series(points.iter().map(|&p| Circle::new(p, 3, blue.filled())))?;
     }
-    for (sign, color, name) in [(1.0, RGBColor(214, 39, 40), "+θ_max"), (-1.0, BLACK, "−θ_max")] {
+    if torque {
+        let ms = mhi - mlo;
+        chart
+            .configure_secondary_axes()
+            .y_desc("torque M [N m]")
+            .axis_desc_style(("sans-serif", 18))
+            .label_style(("sans-serif", 15))
+            .y_label_formatter(&|v| axis_label(*v, ms))
+            .draw()?;
+        let red = RGBColor(214, 39, 40);
+        chart
+            .draw_secondary_series(LineSeries::new(
+                h.time.iter().copied().zip(h.torque.iter().copied()),
+                red.stroke_width(2),
+            ))?
+            .label("applied torque M(t) (right axis)")
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], red.stroke_width(2)));
+    }
+    let lines: &[(f64, RGBColor, &str)] = if torque {
+        &[]
+    } else {
+        &[(1.0, RGBColor(214, 39, 40), "+θ_max"), (-1.0, BLACK, "−θ_max")]
+    };
+    for &(sign, color, name) in lines {
         let y = sign * theta_max;
         chart
             .draw_series(DashedLineSeries::new([(t0, y), (t1, y)], 10, 6, color.stroke_width(2)))?
@@ -237,7 +307,8 @@ fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
     };
     let root = root.titled("Energy over time", ("sans-serif", 26))?;
     let note = format!(
-        "Strain energy peaks at {ratio} × the kinetic peak: flat at this scale, so the lower panel shows it on its own scale."
+        "Gravitational and total energy as changes since t = 0. Strain energy peaks at {ratio} × the kinetic peak: \
+         the lower panel shows it on its own scale."
     );
     root.draw(&Text::new(
         note,
@@ -249,12 +320,18 @@ fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
     let (t0, t1) = time_range(h);
     let xs = t1 - t0;
 
-    let series: [(&str, &[f64], RGBColor); 4] = [
-        ("kinetic", &h.kinetic, RGBColor(31, 119, 180)),
-        ("gravitational", &h.gravity, RGBColor(44, 160, 44)),
-        ("strain", &h.strain, RGBColor(255, 127, 14)),
-        ("total", &h.total, BLACK),
+    let curves = h.energy_curves();
+    let colours = [
+        RGBColor(31, 119, 180),
+        RGBColor(44, 160, 44),
+        BLACK,
+        RGBColor(214, 39, 40),
     ];
+    let series: Vec<(&str, &[f64], RGBColor)> = curves
+        .iter()
+        .zip(colours)
+        .map(|((name, v), c)| (*name, v.as_slice(), c))
+        .collect();
     let (lo, hi) = with_legend_room(range_of(series.iter().flat_map(|s| s.1.iter())));
     let ys = hi - lo;
     let mut chart = ChartBuilder::on(&upper)
@@ -265,7 +342,7 @@ fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
     chart
         .configure_mesh()
         .x_desc("time t [s]")
-        .y_desc("energy [J]")
+        .y_desc("energy, change since t = 0 [J]")
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 15))
         .x_label_formatter(&|v| axis_label(*v, xs))
@@ -320,6 +397,32 @@ fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_upper_energy_panel_shows_changes_so_the_kinetic_energy_spans_most_of_it() {
+        // a pendulum whose gravitational energy sits near −2 J while 0.12 J change hands
+        let n = 50;
+        let mut h = History::default();
+        for k in 0..=n {
+            let s = (k as f64 / n as f64 * std::f64::consts::PI).sin().powi(2);
+            h.time.push(k as f64 * 0.01);
+            h.theta.push(0.35 * (1.0 - 2.0 * s));
+            h.kinetic.push(0.12 * s);
+            h.gravity.push(-2.0 - 0.12 * s);
+            h.strain.push(1e-7);
+            h.total.push(-2.0 + 1e-7);
+        }
+        let curves = h.energy_curves();
+        assert_eq!(curves.len(), 3, "no torque curve without a torque");
+        let (lo, hi) = range_of(curves.iter().flat_map(|c| c.1.iter()));
+        // the kinetic energy spans at least 40 % of the panel (it was 5 % with −2 J in it)
+        assert!(0.12 / (hi - lo) > 0.4, "panel [{lo}, {hi}]");
+        assert!(!h.has_torque());
+        h.torque = vec![0.5; n + 1];
+        h.torque_work = h.kinetic.clone();
+        assert!(h.has_torque());
+        assert_eq!(h.energy_curves().last().unwrap().0, "work of the torque");
+    }
 
     #[test]
     fn csv_columns_are_found_by_name_and_bad_cells_name_the_line() {

@@ -251,16 +251,11 @@ pub(crate) fn tick_label(v: f64, step: f64) -> String {
         .max(0) as usize;
         format!("{v:.decimals$}")
     } else {
-        let exp = v.abs().log10().floor();
-        let mant_step = step / 10f64.powf(exp);
-        let decimals = if mant_step >= 0.999 {
-            0
-        } else if mant_step >= 0.0999 {
-            1
-        } else {
-            2
-        };
-        format!("{v:.decimals$e}")
+        // the fewest mantissa decimals that print the tick exactly: 2.5e4 (not "2e4"), 5e4, 1e5
+        (0..=4)
+            .map(|d| format!("{v:.d$e}"))
+            .find(|text| text.parse::<f64>().is_ok_and(|x| (x - v).abs() <= 1e-9 * step))
+            .unwrap_or_else(|| format!("{v:e}"))
     }
 }
 
@@ -292,12 +287,19 @@ mod tests {
     }
 
     #[test]
-    fn tick_labels_read_well() {
+    fn tick_labels_read_well_and_print_every_tick_exactly() {
         assert_eq!(tick_label(0.04, 0.02), "0.04");
         assert_eq!(tick_label(0.025, 0.025), "0.025");
         assert_eq!(tick_label(2e6, 1e6), "2e6");
         assert_eq!(tick_label(2.5e6, 5e5), "2.5e6");
         assert_eq!(tick_label(2e-5, 1e-5), "2e-5");
+        // the von Mises colour bar of the default run: ticks every 2.5e4 Pa
+        let labels: Vec<String> = [0.0, 2.5e4, 5e4, 7.5e4, 1e5]
+            .iter()
+            .map(|&v| tick_label(v, 2.5e4))
+            .collect();
+        assert_eq!(labels, ["0", "2.5e4", "5e4", "7.5e4", "1e5"]);
+        assert_eq!(tick_label(1.5e-6, 2.5e-7), "1.5e-6");
         assert_eq!(two_digits(123456.0), "1.2e5");
         assert_eq!(two_digits(12.0), "12");
         assert_eq!(two_digits(0.5), "0.50");

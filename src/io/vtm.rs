@@ -8,7 +8,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use super::vtu::{write_atomically, write_mesh_vtu, write_vtu, Cells, VTK_QUADRATIC_EDGE};
+use super::vtu::{write_atomically, write_mesh_vtu, write_vtu, Cells, Grid, VTK_QUADRATIC_EDGE};
 use super::{Field, FieldData};
 use crate::{Error, Mesh};
 
@@ -62,20 +62,23 @@ pub fn write_mesh_blocks(dir: &Path, mesh: &Mesh) -> Result<Vec<PathBuf>, Error>
         let ids = vec![i as f64; edges.len()];
         let file = format!("mesh_{name}.vtu");
         let path = dir.join(&file);
-        let cells = Cells {
+        let cells = [Cells {
             connectivity: &connectivity,
             nodes_per_cell: 3,
             vtk_type: VTK_QUADRATIC_EDGE,
-        };
+        }];
         write_vtu(
             &path,
-            &points,
-            cells,
-            &[],
-            &[Field {
-                name: "boundary",
-                data: FieldData::Scalar(&ids),
-            }],
+            &Grid {
+                points: &points,
+                cells: &cells,
+                point_data: &[],
+                cell_data: &[Field {
+                    name: "boundary",
+                    data: FieldData::Scalar(&ids),
+                }],
+                field_data: &[],
+            },
         )?;
         written.push(path);
         blocks.push((name.clone(), file));

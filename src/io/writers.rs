@@ -1,8 +1,12 @@
 //! One orchestrator for everything a run writes besides `results.csv`: [`FrameWriters`].
 //!
-//! The simulation calls [`FrameWriters::frame`] for every step (step 0 included) and
+//! The simulation calls [`FrameWriters::frame`] for every step (step 0 included), then
+//! [`FrameWriters::last_frame`] with the last state computed (however the run ended), and
 //! [`FrameWriters::finish`] once at the end, after `results.csv` is complete. The writers apply
-//! `output.every` themselves (a step is written when `step % every == 0`) and honour the flags:
+//! the thinning themselves: a ParaView frame is written when `step % output.paraview_every == 0`
+//! (`output.every` when unset), the animations and the viewer are offered the steps with
+//! `step % output.every == 0`, and the last step goes to both whatever its number. They honour
+//! the flags:
 //!
 //! | flag        | files                                              | written            |
 //! |-------------|----------------------------------------------------|--------------------|
@@ -23,6 +27,9 @@
 //! let mut writers = FrameWriters::new(&dir, mesh, &cfg.output, None)?;
 //! for frame in frames {
 //!     writers.frame(frame)?; // every step, step 0 included
+//! }
+//! if let Some(last) = frames.last() {
+//!     writers.last_frame(last)?; // however the run ended
 //! }
 //! // … finish results.csv …
 //! let written = writers.finish()?;
@@ -54,6 +61,26 @@ pub mod names {
     pub const VIEWER_HTML: &str = "viewer.html";
 }
 
+/// Which steps the frame writers take: `Some(stride)` per output that is on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Thinning {
+    /// ParaView frames.
+    pub paraview: Option<usize>,
+    /// Frames kept for the animations and the viewer.
+    pub kept: Option<usize>,
+}
+
+impl Thinning {
+    /// Whether any output takes `step` (the last step is taken anyway, see
+    /// [`FrameWriters::last_frame`]).
+    pub fn wants(&self, step: usize) -> bool {
+        [self.paraview, self.kept]
+            .into_iter()
+            .flatten()
+            .any(|stride| step.is_multiple_of(stride))
+    }
+}
+
 /// Writes the frame outputs of one run into one folder.
 #[derive(Debug)]
 pub struct FrameWriters {
@@ -64,6 +91,9 @@ pub struct FrameWriters {
     wall_x: Option<f64>,
     pvd: Option<PvdWriter>,
     kept: Option<KeptFrames>,
+    /// The last step written to ParaView and offered to the kept frames.
+    last_pvd: Option<usize>,
+    last_kept: Option<usize>,
 }
 
 impl FrameWriters {
@@ -84,12 +114,43 @@ impl FrameWriters {
             wall_x,
             pvd,
             kept,
+            last_pvd: None,
+            last_kept: None,
         })
+    }
+
+    /// Whether [`FrameWriters::frame`] would write anything for `step`.
+    pub fn wants(&self, step: usize) -> bool {
+        self.clone_thinning().wants(step)
+    }
+
+    /// The thinning rule, detached from the writers (for a caller that hands them to a thread).
+    pub fn clone_thinning(&self) -> Thinning {
+        Thinning {
+            paraview: self.pvd.is_some().then(|| self.output.paraview_stride()),
+            kept: self.kept.is_some().then(|| self.output.every.max(1)),
+        }
     }
 
     /// Offers the state after one step (call for every step, including step 0).
     pub fn frame(&mut self, frame: &Frame<'_>) -> Result<(), Error> {
-        if !frame.step.is_multiple_of(self.output.every.max(1)) {
+        let pvd = frame.step.is_multiple_of(self.output.paraview_stride());
+        let kept = frame.step.is_multiple_of(self.output.every.max(1));
+        self.write(frame, pvd, kept)
+    }
+
+    /// Offers the last state of the run (call once, after the last [`FrameWriters::frame`]): written
+    /// to every output that has not had this step yet, so that every output ends on the last step.
+    pub fn last_frame(&mut self, frame: &Frame<'_>) -> Result<(), Error> {
+        let pvd = self.last_pvd != Some(frame.step);
+        let kept = self.last_kept != Some(frame.step);
+        self.write(frame, pvd, kept)
+    }
+
+    fn write(&mut self, frame: &Frame<'_>, to_pvd: bool, to_kept: bool) -> Result<(), Error> {
+        let to_pvd = to_pvd && self.pvd.is_some();
+        let to_kept = to_kept && self.kept.is_some();
+        if !(to_pvd || to_kept) {
             return Ok(());
         }
         let n = self.mesh.num_nodes();
@@ -106,11 +167,13 @@ impl FrameWriters {
                 frame.step, frame.time
             )));
         }
-        if let Some(pvd) = &mut self.pvd {
+        if let (true, Some(pvd)) = (to_pvd, &mut self.pvd) {
             pvd.write_frame(&self.mesh, frame)?;
+            self.last_pvd = Some(frame.step);
         }
-        if let Some(kept) = &mut self.kept {
+        if let (true, Some(kept)) = (to_kept, &mut self.kept) {
             kept.push(KeptFrame::from_frame(&self.mesh.nodes, frame));
+            self.last_kept = Some(frame.step);
         }
         Ok(())
     }

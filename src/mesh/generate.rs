@@ -46,9 +46,48 @@ pub struct MeshStats {
     pub straightened: usize,
 }
 
-/// Meshes the pendulum described by `cfg`.
+/// Meshes the pendulum described by `cfg`, or reads `mesh.file` when it is set
+/// ([`crate::io::gmsh_read`]).
 pub fn generate(cfg: &Config) -> Result<Mesh, Error> {
+    if let Some(file) = &cfg.mesh.file {
+        return crate::io::gmsh_read::read_msh(file).map_err(|e| match e {
+            Error::Input(m) => Error::Mesh(format!("mesh.file: {m}")),
+            other => other,
+        });
+    }
     generate_with_stats(cfg).map(|(m, _)| m)
+}
+
+/// A warning when `mesh.max_size` bounds no element of `mesh` (the mesh of `cfg`): the local sizes,
+/// grown by the grading, stay below it at every node and triangle centroid, so changing it changes
+/// nothing (the tutorial's local sizes are absolute); `mesh.refine` refines the whole mesh. `None`
+/// for the default `max_size`, which bounds nothing in the tutorial's pendulum either.
+pub fn max_size_warning(cfg: &Config, mesh: &Mesh) -> Option<String> {
+    if cfg.mesh.max_size == crate::config::MeshConfig::default().max_size || cfg.mesh.file.is_some() {
+        return None;
+    }
+    let sizes = cfg.mesh_sizes();
+    let shape = geometry::pendulum(&cfg.geometry, &sizes).ok()?;
+    let field = SizeField::new(&shape, f64::INFINITY, sizes.grading);
+    let centroids = mesh.triangles.iter().map(|t| {
+        let c = |k: usize| (mesh.nodes[t[0]][k] + mesh.nodes[t[1]][k] + mesh.nodes[t[2]][k]) / 3.0;
+        [c(0), c(1)]
+    });
+    let largest = mesh
+        .nodes
+        .iter()
+        .copied()
+        .chain(centroids)
+        .map(|p| field.at(p))
+        .fold(0.0, f64::max);
+    (largest < sizes.max_size).then(|| {
+        format!(
+            "warning: mesh.max_size = {} m changes nothing: the local sizes and the grading keep every element \
+             below {largest:.3e} m already (the local sizes are absolute: rod {:.3e} m, head {:.3e} m, circles \
+             {:.3e} m); set mesh.refine = 2 (or more) to refine the whole mesh, or a smaller max_size",
+            cfg.mesh.max_size, sizes.rod, sizes.head, sizes.circle_edge
+        )
+    })
 }
 
 /// Meshes the pendulum and reports counts of the intermediate steps.

@@ -6,6 +6,18 @@ use std::collections::HashMap;
 use pendulum_fem::mesh::BoundaryEdge;
 use pendulum_fem::{Config, Mesh};
 
+/// Meshes the pendulum of `cfg` and runs it to `time.end`: the simulation and every record (the
+/// initial state first).
+pub fn simulate(cfg: &Config) -> (pendulum_fem::simulation::Simulation, Vec<pendulum_fem::simulation::StepRecord>) {
+    let mesh = pendulum_fem::mesh::generate(cfg).expect("tutorial mesh");
+    let mut sim = pendulum_fem::simulation::Simulation::from_config(cfg, mesh).expect("set-up");
+    let mut records = vec![sim.record(0)];
+    for _ in 0..cfg.time.steps() {
+        records.push(sim.advance().expect("step converges"));
+    }
+    (sim, records)
+}
+
 /// The tutorial configuration (all defaults).
 pub fn tutorial() -> Config {
     Config::default()

@@ -1,0 +1,149 @@
+//! Bounded property-based fuzzing of the readers of user files: configuration TOML (and `--set`
+//! overrides), torque tables (CSV) and Gmsh meshes (ASCII and binary). Each reader, fed mutated
+//! valid files or arbitrary input, returns a value or an error that names its source, and never
+//! panics. (A long fuzzing campaign is a separate job; these run in seconds with the suite.)
+
+#[path = "common/msh.rs"]
+mod msh;
+
+use std::sync::OnceLock;
+
+use pendulum_fem::config::{commented_default, Config};
+use pendulum_fem::io::gmsh::write_msh_to;
+use pendulum_fem::io::gmsh_read::parse_msh;
+use pendulum_fem::terms::TorqueProfile;
+use proptest::prelude::*;
+
+/// A small valid mesh file (the plate of 2 × 6 squares), ASCII and binary.
+fn valid_msh() -> &'static (Vec<u8>, Vec<u8>) {
+    static FILES: OnceLock<(Vec<u8>, Vec<u8>)> = OnceLock::new();
+    FILES.get_or_init(|| {
+        let mut cfg = Config::default();
+        cfg.mesh.refine = 0.25; // a coarse pendulum keeps each case fast
+        let mesh = pendulum_fem::mesh::generate(&cfg).unwrap();
+        let mut ascii = Vec::new();
+        write_msh_to(&mut ascii, &mesh).unwrap();
+        (ascii, msh::binary_msh(&mesh))
+    })
+}
+
+/// An edit of a byte string: overwrite, insert or delete a short run at a position (as fractions).
+#[derive(Clone, Debug)]
+enum Edit {
+    Overwrite(f64, Vec<u8>),
+    Insert(f64, Vec<u8>),
+    Delete(f64, usize),
+    Truncate(f64),
+}
+
+fn edit() -> impl Strategy<Value = Edit> {
+    let bytes = prop::collection::vec(any::<u8>(), 1..8);
+    let text = "[-0-9eE.+ \n$\"a-z]{1,8}".prop_map(String::into_bytes);
+    prop_oneof![
+        (0.0..1.0f64, bytes.clone()).prop_map(|(p, b)| Edit::Overwrite(p, b)),
+        (0.0..1.0f64, text.clone()).prop_map(|(p, b)| Edit::Overwrite(p, b)),
+        (0.0..1.0f64, text).prop_map(|(p, b)| Edit::Insert(p, b)),
+        (0.0..1.0f64, bytes).prop_map(|(p, b)| Edit::Insert(p, b)),
+        (0.0..1.0f64, 1..64usize).prop_map(|(p, n)| Edit::Delete(p, n)),
+        (0.0..1.0f64).prop_map(Edit::Truncate),
+    ]
+}
+
+fn apply(data: &[u8], edits: &[Edit]) -> Vec<u8> {
+    let mut d = data.to_vec();
+    for e in edits {
+        let at = |p: f64, d: &Vec<u8>| ((p * d.len() as f64) as usize).min(d.len());
+        match e {
+            Edit::Overwrite(p, b) => {
+                let i = at(*p, &d);
+                for (k, &x) in b.iter().enumerate() {
+                    if let Some(slot) = d.get_mut(i + k) {
+                        *slot = x;
+                    }
+                }
+            }
+            Edit::Insert(p, b) => {
+                let i = at(*p, &d);
+                d.splice(i..i, b.iter().copied());
+            }
+            Edit::Delete(p, n) => {
+                let i = at(*p, &d);
+                let j = (i + n).min(d.len());
+                d.drain(i..j);
+            }
+            Edit::Truncate(p) => {
+                let i = at(*p, &d);
+                d.truncate(i);
+            }
+        }
+    }
+    d
+}
+
+fn assert_msh(data: &[u8]) {
+    if let Err(e) = parse_msh(data, "fuzz.msh") {
+        let m = e.to_string();
+        assert!(m.contains("fuzz.msh"), "an error that does not name the file: {m}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn a_mutated_ascii_gmsh_file_is_read_or_rejected_with_an_error_naming_it(edits in prop::collection::vec(edit(), 1..4)) {
+        assert_msh(&apply(&valid_msh().0, &edits));
+    }
+
+    #[test]
+    fn a_mutated_binary_gmsh_file_is_read_or_rejected_with_an_error_naming_it(edits in prop::collection::vec(edit(), 1..4)) {
+        assert_msh(&apply(&valid_msh().1, &edits));
+    }
+
+    #[test]
+    fn arbitrary_bytes_are_no_gmsh_file(data in prop::collection::vec(any::<u8>(), 0..400)) {
+        let mut with_header = b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n".to_vec();
+        with_header.extend(&data);
+        assert_msh(&data);
+        assert_msh(&with_header);
+    }
+
+    #[test]
+    fn a_mutated_configuration_is_read_or_rejected_with_an_error(edits in prop::collection::vec(edit(), 1..4)) {
+        let text = String::from_utf8_lossy(&apply(commented_default().as_bytes(), &edits)).into_owned();
+        if let Err(e) = Config::from_toml_str(&text) {
+            prop_assert!(!e.to_string().is_empty());
+        }
+    }
+
+    #[test]
+    fn any_set_override_is_applied_or_rejected_with_an_error(
+        key in "(geometry|mesh|material|gravity|initial|time|solver|torque|output|x)\\.[a-z_]{1,20}",
+        value in "[-0-9eE.+a-z\"\\[\\] ]{0,12}",
+    ) {
+        let assignment = format!("{key}={value}");
+        if let Err(e) = Config::load(None, &[assignment]) {
+            prop_assert!(!e.to_string().is_empty());
+        }
+    }
+
+    #[test]
+    fn a_torque_table_is_read_or_rejected_with_an_error_naming_the_file(
+        rows in prop::collection::vec(("[-0-9eE.+ a-z]{0,8}", "[-0-9eE.+ a-z]{0,8}"), 0..12),
+        header in prop_oneof![Just("time_s,torque_Nm".to_string()), "[a-z_,]{0,20}"],
+    ) {
+        let mut text = header.clone();
+        for (t, m) in &rows {
+            text.push_str(&format!("\n{t},{m}"));
+        }
+        match TorqueProfile::parse_table(&text, "fuzz.csv") {
+            Ok(p) => {
+                // a table that reads evaluates to finite torques everywhere
+                for t in [-1.0, 0.0, 0.5, 1e3] {
+                    prop_assert!(p.value(t).is_finite());
+                }
+            }
+            Err(e) => prop_assert!(e.to_string().contains("fuzz.csv"), "{}", e),
+        }
+    }
+}
