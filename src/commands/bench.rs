@@ -48,7 +48,12 @@ pub fn time_default_run(cfg: &Config) -> Result<RunSummary, Error> {
 }
 
 /// `bench run`: repeats the default run, prints the best and the breakdown; optionally runs NGSolve.
+/// With `ngsolve_python`, the inputs are checked before anything is timed: the script must exist
+/// and the interpreter must import `ngsolve`.
 pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, anchor: &Path) -> Result<(), Error> {
+    if let Some(python) = ngsolve_python {
+        check_ngsolve_inputs(python, anchor)?;
+    }
     let mut best: Option<RunSummary> = None;
     for i in 0..repeats.max(1) {
         let s = time_default_run(cfg)?;
@@ -112,6 +117,33 @@ pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, an
         print!("{}", String::from_utf8_lossy(&out.stdout));
         println!("NGSolve tutorial script: {ngs:.3} s wall (process start to exit)");
         println!("speed ratio NGSolve / pendulum-fem: {:.1}", ngs / s.seconds_total);
+    }
+    Ok(())
+}
+
+/// Fails, before any timing, when the NGSolve script is missing or `python` cannot import
+/// `ngsolve`; the message names the path or the interpreter and what to pass instead.
+pub fn check_ngsolve_inputs(python: &Path, anchor: &Path) -> Result<(), Error> {
+    if !anchor.is_file() {
+        return Err(Error::Config(format!(
+            "--anchor {}: the NGSolve tutorial script is not there; pass its path with --anchor FILE",
+            anchor.display()
+        )));
+    }
+    let probe = std::process::Command::new(python)
+        .args(["-c", "import ngsolve"])
+        .output()
+        .map_err(|e| Error::Config(format!("--ngsolve {}: cannot run it ({e})", python.display())))?;
+    if !probe.status.success() {
+        return Err(Error::Config(format!(
+            "--ngsolve {}: this Python cannot import ngsolve ({}); pass a Python with NGSolve installed",
+            python.display(),
+            String::from_utf8_lossy(&probe.stderr)
+                .lines()
+                .last()
+                .unwrap_or("")
+                .trim()
+        )));
     }
     Ok(())
 }
