@@ -285,3 +285,41 @@ fn force_over_a_longer_earlier_run_leaves_no_file_of_it() {
     assert_eq!(csv.lines().count(), 12, "header and steps 0..=10");
     assert_eq!(status_of(&out).status, "ok");
 }
+
+#[cfg(unix)]
+#[test]
+fn bench_ngsolve_checks_its_inputs_before_timing_anything() {
+    let dir = scratch("bench-inputs");
+    let missing = dir.join("no_such_script.py");
+    let o = bin()
+        .args(["bench", "run", "--repeats", "1", "--ngsolve", "python3", "--anchor"])
+        .arg(&missing)
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("no_such_script.py") && stderr(&o).contains("--anchor"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        o.stdout.is_empty(),
+        "nothing was timed: {}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    // a Python without NGSolve is refused by name, also before any timing
+    let script = dir.join("script.py");
+    std::fs::write(&script, "print('never run')\n").unwrap();
+    let o = bin()
+        .args(["bench", "run", "--repeats", "1", "--ngsolve", "/bin/false", "--anchor"])
+        .arg(&script)
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("--ngsolve /bin/false") && stderr(&o).contains("ngsolve"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(o.stdout.is_empty());
+}

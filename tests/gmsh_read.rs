@@ -1,5 +1,5 @@
 //! Reading Gmsh 4.1 meshes (`mesh.file`): our own `.msh` reads back as the same mesh and the same
-//! run bit for bit, ASCII and binary files agree, a plate with a hole meshed by real Gmsh swings
+//! run bit for bit (up to the run-to-run order of a parallel sum in the reported strain energy), ASCII and binary files agree, a plate with a hole meshed by real Gmsh swings
 //! with the period of the exact rigid compound pendulum, and bad files are errors naming the line.
 
 #[path = "common/msh.rs"]
@@ -51,7 +51,7 @@ fn edge_set(mesh: &Mesh) -> HashSet<([usize; 3], String)> {
 }
 
 #[test]
-fn our_own_msh_reads_back_as_the_same_mesh_and_the_same_run_bit_for_bit() {
+fn our_own_msh_reads_back_as_the_same_mesh_and_the_same_motion_bit_for_bit() {
     let dir = scratch("own");
     let cfg = Config::default();
     let mesh = generate(&cfg).unwrap();
@@ -78,10 +78,22 @@ fn our_own_msh_reads_back_as_the_same_mesh_and_the_same_run_bit_for_bit() {
     generated.time.end = 0.3;
     quiet_run(generated, dir.join("generated"));
     quiet_run(from_file, dir.join("from-file"));
-    let a = std::fs::read_to_string(dir.join("generated/results.csv")).unwrap();
-    let b = std::fs::read_to_string(dir.join("from-file/results.csv")).unwrap();
-    assert_eq!(a.lines().count(), 32);
-    assert_eq!(a, b, "the same run, bit for bit");
+    let read = |name: &str| pendulum_fem::io::csv::read_numeric_csv(&dir.join(name).join("results.csv")).unwrap();
+    let ((names, a), (_, b)) = (read("generated"), read("from-file"));
+    assert_eq!(a.len(), 31);
+    let strain = names.iter().position(|n| n == "strain_J").unwrap();
+    for (ra, rb) in a.iter().zip(&b) {
+        for (k, (x, y)) in ra.iter().zip(rb).enumerate() {
+            if k == strain {
+                // the reported strain energy is a parallel (rayon) sum over the elements, whose
+                // order varies from run to run: seen to differ in the last digit between two runs
+                // of the same mesh; it does not enter the motion
+                assert!((x - y).abs() <= 1e-14 * x.abs(), "t = {}: strain {x} vs {y}", ra[0]);
+            } else {
+                assert_eq!(x.to_bits(), y.to_bits(), "t = {}: {} {x} vs {y}", ra[0], names[k]);
+            }
+        }
+    }
 }
 
 #[test]
@@ -215,11 +227,12 @@ fn a_plate_with_a_hole_meshed_by_gmsh_swings_with_the_exact_rigid_compound_pendu
     let mut cfg = Config::default();
     cfg.mesh.file = Some(dir.join("ascii2.msh"));
     cfg.time.dt = 0.001;
-    cfg.time.end = 1.0;
+    // zero crossings at T/4 and 3T/4 (T ≈ 0.83 s) give the period
+    cfg.time.end = 0.7;
     let (g, theta0) = (cfg.gravity.g, cfg.initial.angle_deg.to_radians());
     let exact = 4.0 * (polar / (area * g * (moment / area))).sqrt() * elliptic_k((theta0 / 2.0).sin());
     let summary = quiet_run(cfg, dir.join("run"));
-    let period = summary.period.expect("two zero crossings in 1 s");
+    let period = summary.period.expect("two zero crossings in 0.7 s");
     let rel = (period / exact - 1.0).abs();
     eprintln!("Gmsh plate: period {period:.9} s, exact rigid {exact:.9} s, relative {rel:.2e}");
     // bar 5e-4; the trapezoidal rule lengthens the period by (ω Δt)²/12 ≈ 4e-6 here

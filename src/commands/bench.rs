@@ -138,11 +138,8 @@ fn time_ngsolve(python: &Path, anchor: &Path, args: &[&str]) -> Result<f64, Erro
 /// compiled Variation, TaskManager, two threads) and as written (`--post 1 --energy 0`), in the
 /// same session, with the ratios of wall times.
 pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, anchor: &Path) -> Result<(), Error> {
-    if ngsolve_python.is_some() && !anchor.is_file() {
-        return Err(Error::Input(format!(
-            "--anchor {}: the NGSolve tutorial script is not there (give its path with --anchor)",
-            anchor.display()
-        )));
+    if let Some(python) = ngsolve_python {
+        check_ngsolve_inputs(python, anchor)?;
     }
     let other = match cfg.time.scheme {
         Scheme::EnergyMomentum => Scheme::Trapezoidal,
@@ -172,6 +169,33 @@ pub fn bench_run(cfg: &Config, repeats: usize, ngsolve_python: Option<&Path>, an
             tuned / s.seconds_total,
             written / s.seconds_total
         );
+    }
+    Ok(())
+}
+
+/// Fails, before any timing, when the NGSolve script is missing or `python` cannot import
+/// `ngsolve`; the message names the path or the interpreter and what to pass instead.
+pub fn check_ngsolve_inputs(python: &Path, anchor: &Path) -> Result<(), Error> {
+    if !anchor.is_file() {
+        return Err(Error::Config(format!(
+            "--anchor {}: the NGSolve tutorial script is not there; pass its path with --anchor FILE",
+            anchor.display()
+        )));
+    }
+    let probe = std::process::Command::new(python)
+        .args(["-c", "import ngsolve"])
+        .output()
+        .map_err(|e| Error::Config(format!("--ngsolve {}: cannot run it ({e})", python.display())))?;
+    if !probe.status.success() {
+        return Err(Error::Config(format!(
+            "--ngsolve {}: this Python cannot import ngsolve ({}); pass a Python with NGSolve installed",
+            python.display(),
+            String::from_utf8_lossy(&probe.stderr)
+                .lines()
+                .last()
+                .unwrap_or("")
+                .trim()
+        )));
     }
     Ok(())
 }

@@ -8,7 +8,12 @@ use pendulum_fem::{Config, Mesh};
 
 /// Meshes the pendulum of `cfg` and runs it to `time.end`: the simulation and every record (the
 /// initial state first).
-pub fn simulate(cfg: &Config) -> (pendulum_fem::simulation::Simulation, Vec<pendulum_fem::simulation::StepRecord>) {
+pub fn simulate(
+    cfg: &Config,
+) -> (
+    pendulum_fem::simulation::Simulation,
+    Vec<pendulum_fem::simulation::StepRecord>,
+) {
     let mesh = pendulum_fem::mesh::generate(cfg).expect("tutorial mesh");
     let mut sim = pendulum_fem::simulation::Simulation::from_config(cfg, mesh).expect("set-up");
     let mut records = vec![sim.record(0)];
