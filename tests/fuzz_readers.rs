@@ -1,7 +1,9 @@
 //! Bounded property-based fuzzing of the readers of user files: configuration TOML (and `--set`
 //! overrides), torque tables (CSV) and Gmsh meshes (ASCII and binary). Each reader, fed mutated
 //! valid files or arbitrary input, returns a value or an error that names its source, and never
-//! panics. (A long fuzzing campaign is a separate job; these run in seconds with the suite.)
+//! panics. These run 300 cases each in seconds with the suite; a long campaign sets the number of
+//! cases per test with the environment variable `FUZZ_CASES`, e.g.
+//! `FUZZ_CASES=2000000 cargo test --release --test fuzz_readers gmsh` (see the README).
 
 #[path = "common/msh.rs"]
 mod msh;
@@ -80,6 +82,14 @@ fn apply(data: &[u8], edits: &[Edit]) -> Vec<u8> {
     d
 }
 
+/// Cases per property: `FUZZ_CASES` when set (a long campaign), 300 otherwise.
+fn fuzz_cases() -> u32 {
+    std::env::var("FUZZ_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(300)
+}
+
 fn assert_msh(data: &[u8]) {
     if let Err(e) = parse_msh(data, "fuzz.msh") {
         let m = e.to_string();
@@ -88,7 +98,7 @@ fn assert_msh(data: &[u8]) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: fuzz_cases(), failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
     fn a_mutated_ascii_gmsh_file_is_read_or_rejected_with_an_error_naming_it(edits in prop::collection::vec(edit(), 1..4)) {
