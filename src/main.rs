@@ -86,8 +86,8 @@ struct BenchArgs {
     /// Python interpreter with NGSolve: also time the tutorial script and print the ratio (`run`).
     #[arg(long, value_name = "PYTHON")]
     ngsolve: Option<PathBuf>,
-    /// The NGSolve tutorial script.
-    #[arg(long, value_name = "FILE", default_value = "../shared/anchors/ngsolve_tutorial.py")]
+    /// The NGSolve script of the tutorial's pendulum (shipped in this repository; run from its root).
+    #[arg(long, value_name = "FILE", default_value = "scripts/ngsolve/pendulum_basics.py")]
     anchor: PathBuf,
     /// Steps per mesh (`scaling`).
     #[arg(long, default_value_t = 5)]

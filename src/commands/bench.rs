@@ -2,9 +2,9 @@
 //!
 //! * `run`: the whole default job (mesh, 100 steps, post-processing, `results.csv`) repeated, with
 //!   a breakdown per Newton iteration (assembly, factorisation, solve), for the configured scheme
-//!   and the other family for comparison; with `--ngsolve PYTHON` the NGSolve tutorial script
-//!   (`--anchor`, default `../shared/anchors/ngsolve_tutorial.py`) is run tuned and as written in the
-//!   same session and the ratios of wall times are printed.
+//!   and the other family for comparison; with `--ngsolve PYTHON` the NGSolve script of the
+//!   tutorial's pendulum (`--anchor`, default `scripts/ngsolve/pendulum_basics.py`, shipped here) is
+//!   run tuned and as written in the same session and the ratios of wall times are printed.
 //! * `scaling`: time per step at about 5k, 20k, 80k and 320k unknowns (all mesh sizes scaled by a
 //!   common factor found by probing the mesher).
 //! * `mesh`: the tutorial mesh (best of 10) and a mesh of about `--triangles` triangles.
