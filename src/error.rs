@@ -131,7 +131,9 @@ impl fmt::Display for Error {
             Self::TimeStep { step, t, dt, source } => {
                 write!(
                     f,
-                    "time step {step} from t = {t:.6} s failed (smallest dt tried {dt:.3e} s): {source}"
+                    "time step {step} from t = {t:.6} s failed (smallest dt tried {dt:.3e} s): {source}. \
+                     Try a smaller time.dt or time.max_rotation_deg, time.scheme = \"hht\" for fast spins, or more \
+                     solver.max_iterations / solver.max_cutbacks"
                 )
             }
             Self::InitialEquilibrium { source } => write!(

@@ -86,6 +86,8 @@ fn a_failing_step_names_step_time_and_residual_keeps_the_rows_and_writes_plots_a
         msg.contains("time step 1") && msg.contains("t = 0.000000 s") && msg.contains("residual"),
         "{msg}"
     );
+    assert!(msg.contains("Try a smaller time.dt"), "a hint: {msg}");
+    assert!(!msg.contains("caused by"), "the cause is already in the message: {msg}");
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 2, "header and the initial row: {csv}");
