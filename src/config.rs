@@ -634,6 +634,13 @@ impl Config {
                 "0 <= dissipation < 1 (0: exact energy conservation)",
             ));
         }
+        if self.time.dissipation != 0.0 && self.time.scheme != Scheme::EnergyMomentum {
+            return Err(Error::Config(format!(
+                "time.dissipation = {}: it belongs to time.scheme = \"energy-momentum\" (the Newmark schemes \
+                 have time.hht_alpha with time.scheme = \"hht\" instead)",
+                self.time.dissipation
+            )));
+        }
         within("time.max_rotation_deg", self.time.max_rotation_deg, 0.1, 90.0, "deg")?;
         if self.time.end > 0.0 && self.time.dt > self.time.end {
             return Err(range(
@@ -886,5 +893,36 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("mesh.max_size"), "{err}");
+    }
+
+    #[test]
+    fn the_time_scheme_keys_are_checked_with_their_ranges() {
+        let cfg = Config::load(None, &["time.dissipation=0.3".into()]).unwrap();
+        assert_eq!((cfg.time.scheme, cfg.time.dissipation), (Scheme::EnergyMomentum, 0.3));
+        for (set, needles) in [
+            (
+                vec!["time.dissipation=1"],
+                vec!["time.dissipation", "0 <= dissipation < 1"],
+            ),
+            (
+                vec!["time.dissipation=-0.1"],
+                vec!["time.dissipation", "0 <= dissipation < 1"],
+            ),
+            (
+                vec!["time.dissipation=0.2", "time.scheme=\"trapezoidal\""],
+                vec!["time.dissipation", "energy-momentum"],
+            ),
+            (
+                vec!["solver.energy_tolerance=0"],
+                vec!["solver.energy_tolerance", "0 < energy_tolerance"],
+            ),
+            (vec!["time.scheme=\"midpoint\""], vec!["time.scheme"]),
+        ] {
+            let sets: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+            let err = Config::load(None, &sets).unwrap_err().to_string();
+            for n in needles {
+                assert!(err.contains(n), "{set:?}: `{n}` missing in {err}");
+            }
+        }
     }
 }
