@@ -384,14 +384,6 @@ impl Simulation {
         let mut inertial = vec![0.0; self.state.a.len()];
         m.mass.apply(&self.state.a, &mut inertial);
         let dalembert = Linear { gradient: inertial };
-        let pin = Inertia {
-            mass: &m.mass,
-            pattern: &m.pattern,
-            factor: 1e4,
-            predictor: self.state.u.clone(),
-        };
-        let mut terms: Vec<&dyn Term> = vec![&pin, &m.elastic, &m.gravity, &dalembert];
-        terms.extend(m.extra_terms.iter().map(|t| t.as_ref()));
         for t in &m.extra_terms {
             t.begin_step(&self.state.u, self.state.t);
         }
@@ -417,7 +409,12 @@ impl Simulation {
         // Proximal-point iterations: re-centre the pin on the last solution so that its force,
         // c M (u − u_pin), vanishes in the limit; the elastic modes converge by the factor
         // c M / K ≈ 1e-6 per pass for steel, the rotation stays pinned.
-        for _ in 0..PROXIMAL_PASSES {
+        for pass in 0..PROXIMAL_PASSES {
+            // the passes differ only by the pin's centre: later passes reuse the first's factorisation
+            let settings = NewtonSettings {
+                reuse: pass > 0,
+                ..settings
+            };
             let pin = Inertia {
                 mass: &m.mass,
                 pattern: &m.pattern,
