@@ -9,7 +9,7 @@
 //!
 //! Element matrices are scattered through precomputed positions: for element `e` and local
 //! degrees of freedom `i, j` (`0..12`, node-major, x before y), `scatter[e·144 + 12 i + j]` is the
-//! index in [`Pattern::values`]-sized arrays, or [`SKIP`] for the lower-triangle half.
+//! index in arrays of [`Pattern::nnz`] values, or [`SKIP`] for the lower-triangle half.
 
 use crate::Mesh;
 
