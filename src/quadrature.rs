@@ -81,9 +81,60 @@ pub const GAUSS3_UNIT: [(f64, f64); 3] = [
     (0.887_298_334_620_741_7, 5.0 / 18.0),
 ];
 
+/// The `n`-point Gauss–Legendre rule on `[0, 1]` (exact for polynomials of degree `2n − 1`):
+/// `(s, weight)`, weights summing to 1. The roots of `P_n` by Newton's method from the usual
+/// starting guesses `cos(π (i − ¼)/(n + ½))`, the weights `2/((1 − x²) P_n'(x)²)`, both mapped from
+/// `[−1, 1]`.
+pub fn gauss_legendre_unit(n: usize) -> Vec<(f64, f64)> {
+    assert!(n >= 1, "a rule needs at least one point");
+    let mut out = Vec::with_capacity(n);
+    for i in 1..=n {
+        let mut x = (std::f64::consts::PI * (i as f64 - 0.25) / (n as f64 + 0.5)).cos();
+        let mut dp = 1.0;
+        for _ in 0..100 {
+            // P_n(x) and P_n'(x) by the three-term recurrence
+            let (mut p0, mut p1) = (1.0, x);
+            for k in 2..=n {
+                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                (p0, p1) = (p1, p2);
+            }
+            let pn = if n == 1 { x } else { p1 };
+            let pm = if n == 1 { 1.0 } else { p0 };
+            dp = n as f64 * (x * pn - pm) / (x * x - 1.0);
+            let step = pn / dp;
+            x -= step;
+            if step.abs() < 1e-16 {
+                break;
+            }
+        }
+        let w = 2.0 / ((1.0 - x * x) * dp * dp);
+        out.push((0.5 * (1.0 - x), 0.5 * w));
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn gauss_legendre_rules_are_exact_to_degree_2n_minus_1() {
+        for n in [1, 2, 3, 5, 8, 12] {
+            let rule = gauss_legendre_unit(n);
+            for p in 0..(2 * n as i32) {
+                let approx: f64 = rule.iter().map(|(s, w)| w * s.powi(p)).sum();
+                // ∫₀¹ s^p ds = 1/(p + 1), to rounding
+                assert!(
+                    (approx - 1.0 / (p + 1) as f64).abs() < 1e-14,
+                    "n = {n}, s^{p}: {approx}"
+                );
+            }
+        }
+        let three = gauss_legendre_unit(3);
+        for ((s, w), (s3, w3)) in three.iter().zip(GAUSS3_UNIT.iter()) {
+            assert!((s - s3).abs() < 1e-15 && (w - w3).abs() < 1e-15);
+        }
+    }
 
     fn factorial(n: u32) -> f64 {
         (1..=n).map(f64::from).product()

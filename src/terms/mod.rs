@@ -25,11 +25,13 @@
 
 use crate::assembly::Pattern;
 
+pub mod contact;
 pub mod elastic;
 pub mod gravity;
 pub mod inertia;
 pub mod torque;
 
+pub use contact::RigidWall;
 pub use elastic::Elastic;
 pub use gravity::Gravity;
 pub use inertia::Inertia;

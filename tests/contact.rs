@@ -1,0 +1,121 @@
+//! The rigid wall's contact term at term level: its energy, gradient and Hessian against finite
+//! differences, the discrete-gradient identity through the moment of impact, and nothing when apart.
+//! (Wiring it into a run, the impact resolution and the outputs belong to the contact issue.)
+
+use pendulum_fem::assembly::Pattern;
+use pendulum_fem::terms::{RigidWall, StepStart, Term};
+use pendulum_fem::{mesh, Config, Mesh};
+
+fn tutorial_mesh() -> Mesh {
+    mesh::generate(&Config::default()).expect("tutorial mesh")
+}
+
+/// A deterministic pseudo-random field of amplitude `amp`.
+fn wiggle(n: usize, amp: f64, seed: f64) -> Vec<f64> {
+    (0..n)
+        .map(|i| amp * (((i as f64 + seed) * 12.9898).sin() * 43758.5453).fract())
+        .collect()
+}
+
+/// The head pushed by `dx` in x, plus a wiggle.
+fn shifted(mesh: &Mesh, dx: f64, seed: f64) -> Vec<f64> {
+    let mut u = wiggle(2 * mesh.num_nodes(), 2e-6, seed);
+    for n in 0..mesh.num_nodes() {
+        u[2 * n] += dx;
+    }
+    u
+}
+
+/// The wall 0.1 mm inside the hanging head's leftmost point (x = −0.06 m).
+fn wall(mesh: &Mesh, stiffness: f64) -> RigidWall {
+    RigidWall::new(mesh, "contact_head", -0.0599, stiffness, 0.01, 8).unwrap()
+}
+
+#[test]
+fn apart_the_wall_has_no_energy_no_force_and_no_stiffness() {
+    let mesh = tutorial_mesh();
+    let term = RigidWall::new(&mesh, "contact_head", -0.07, 2e10, 0.01, 8).unwrap();
+    let u = shifted(&mesh, 0.0, 1.0);
+    let pattern = Pattern::new(&mesh, &[]);
+    let (mut g, mut k) = (vec![0.0; u.len()], vec![0.0; pattern.nnz()]);
+    let e = term.assemble(&u, 0.0, &pattern, &mut g, &mut k);
+    assert_eq!(e, 0.0);
+    assert!(g.iter().chain(&k).all(|x| *x == 0.0));
+    assert!(
+        (term.smallest_gap(&u) - 0.01).abs() < 1e-5,
+        "gap {}",
+        term.smallest_gap(&u)
+    );
+}
+
+#[test]
+fn the_contact_gradient_and_hessian_match_finite_differences() {
+    let mesh = tutorial_mesh();
+    let term = wall(&mesh, 2e10);
+    let u = shifted(&mesh, -2e-5, 2.0);
+    let pattern = Pattern::new(&mesh, &[]);
+    let n = u.len();
+    let (mut g, mut k) = (vec![0.0; n], vec![0.0; pattern.nnz()]);
+    term.assemble(&u, 0.0, &pattern, &mut g, &mut k);
+    let scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    assert!(scale > 0.0, "the head is pressed into the wall");
+    // the force resultant equals the normal force the term reports
+    let fx: f64 = g.iter().step_by(2).sum();
+    assert!((fx + term.normal_force(&u)).abs() <= 1e-12 * scale * n as f64);
+    let h = 1e-9; // far below the penetrations (≥ 1e-4 m), so no point switches on or off
+    let dofs: Vec<usize> = mesh
+        .nodes_on("contact_head")
+        .iter()
+        .flat_map(|&a| [2 * a, 2 * a + 1])
+        .collect();
+    for &dof in dofs.iter().step_by(3) {
+        let (mut up, mut um) = (u.clone(), u.clone());
+        up[dof] += h;
+        um[dof] -= h;
+        let fd = (term.energy(&up, 0.0) - term.energy(&um, 0.0)) / (2.0 * h);
+        // central difference of a piecewise quadratic: exact up to rounding of the energies
+        assert!((fd - g[dof]).abs() <= 1e-5 * scale, "g[{dof}] {} vs {fd}", g[dof]);
+        let (mut gp, mut gm) = (vec![0.0; n], vec![0.0; n]);
+        term.add_gradient(&up, 0.0, &mut gp);
+        term.add_gradient(&um, 0.0, &mut gm);
+        let mut col = vec![0.0; n];
+        let mut unit = vec![0.0; n];
+        unit[dof] = 1.0;
+        pattern.sym_matvec(&k, &unit, &mut col);
+        let k_scale = col.iter().fold(0.0f64, |a, b| a.max(b.abs())).max(1.0);
+        for &i in &dofs {
+            let fd = (gp[i] - gm[i]) / (2.0 * h);
+            assert!((fd - col[i]).abs() <= 1e-6 * k_scale, "K[{i},{dof}] {} vs {fd}", col[i]);
+        }
+    }
+}
+
+#[test]
+fn through_an_impact_the_discrete_work_is_the_change_of_contact_energy() {
+    let mesh = tutorial_mesh();
+    for stiffness in [2e10, 1e14] {
+        let term = wall(&mesh, stiffness);
+        // apart → pressed, pressed → deeper, pressed → apart, apart → apart
+        for (k, (d0, d1)) in [(1e-4, -3e-5), (-1e-5, -4e-5), (-2e-5, 2e-4), (1e-3, 2e-4)]
+            .into_iter()
+            .enumerate()
+        {
+            let (u0, u1) = (shifted(&mesh, d0, k as f64), shifted(&mesh, d1, 10.0 + k as f64));
+            let start = StepStart {
+                u: &u0,
+                t: 0.0,
+                data: &[],
+                dissipation: 0.0,
+            };
+            let mut g = vec![0.0; u0.len()];
+            term.add_discrete_gradient(&start, &u1, 0.01, 1.0, &mut g);
+            let work: f64 = g.iter().zip(u1.iter().zip(&u0)).map(|(f, (a, b))| f * (a - b)).sum();
+            let change = term.energy(&u1, 0.01) - term.energy(&u0, 0.0);
+            let scale = term.energy(&u1, 0.0).max(term.energy(&u0, 0.0)).max(1e-30);
+            assert!(
+                (work - change).abs() <= 1e-12 * scale,
+                "k = {stiffness}, step {k}: work {work:e} vs change {change:e}"
+            );
+        }
+    }
+}
