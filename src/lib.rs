@@ -41,6 +41,7 @@ pub mod progress;
 pub use config::Config;
 pub use error::Error;
 pub use mesh::Mesh;
+pub use simulation::{Energies, Model, Simulation, Snapshot, StepRecord};
 pub mod assembly;
 pub mod constraint;
 pub mod element;

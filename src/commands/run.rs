@@ -296,13 +296,14 @@ fn run_steps(
             summary.end = RunEnd::Interrupted;
             break Ok(());
         }
-        let next = if sim.step < plan.full {
-            sim.advance()
+        // the stepper advances; the record (with the nodal stresses) is this loop's observation
+        let stepped = if sim.step < plan.full {
+            sim.step(cfg.time.dt)
         } else {
-            sim.advance_to(cfg.time.end)
+            sim.step_to(cfg.time.end)
         };
-        match next {
-            Ok(r) => record = r,
+        match stepped {
+            Ok(its) => record = sim.record(its),
             Err(e) => break Err(e),
         }
     };
