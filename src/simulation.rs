@@ -50,7 +50,7 @@ use crate::{Error, Mesh};
 mod snapshot;
 mod stepper;
 
-pub use snapshot::{Snapshot, SNAPSHOT_VERSION};
+pub use snapshot::{fingerprint, Snapshot, SNAPSHOT_VERSION};
 pub use stepper::Energies;
 
 /// Relative equilibrium tolerance of a converged step: `‖∇Φ + Cᵀλ‖∞ ≤ 10⁻⁴ × load scale`, where the
