@@ -270,3 +270,27 @@ fn a_snapshot_of_another_model_or_damaged_bytes_is_refused_with_a_clear_error() 
     let msg = Snapshot::from_bytes(&version, "x.snap").unwrap_err().to_string();
     assert!(msg.contains("version 99"), "{msg}");
 }
+
+#[test]
+fn a_held_torque_changed_during_the_run_does_work_that_balances_the_energy() {
+    // zero-order hold: each step sees one torque value from its start to its end, so the
+    // energy-momentum scheme's balance E − E₀ = W holds across the changes as well
+    let mut cfg = Config::default();
+    cfg.torque.profile = Kind::Constant;
+    let mut sim = tutorial_sim(&cfg);
+    let e0 = sim.energies().total;
+    for (k, m) in [0.0, 0.5, -0.5, 0.0].into_iter().enumerate() {
+        sim.set_torque(m).unwrap();
+        assert_eq!(sim.model.applied_torque(sim.time()), m);
+        for _ in 0..15 {
+            sim.step(0.01).unwrap();
+        }
+        let r = sim.record(0);
+        assert_eq!(r.torque, m, "segment {k}");
+    }
+    let e = sim.energies();
+    assert!(e.torque_work.abs() > 1e-3, "the torque did work: {}", e.torque_work);
+    // bound: solver.energy_tolerance 1e-12 per step of the step's energy scale (~1 J), 60 steps
+    let defect = (e.total - e0 - e.torque_work).abs();
+    assert!(defect < 1e-9, "E − E₀ − W = {defect:e} J");
+}

@@ -100,20 +100,24 @@ impl Simulation {
                 "set_torque({value} N m): allowed a finite torque"
             )));
         }
-        let torque = self.model.torque.as_mut().ok_or_else(|| {
-            Error::Config(
+        if self.model.torque.is_none() {
+            return Err(Error::Config(
                 "set_torque: this model has no torque term (torque.profile = \"none\"); set torque.profile = \
                  \"constant\" with torque.amplitude = 0 to declare a torque input"
                     .into(),
-            )
-        })?;
-        torque.profile = TorqueProfile::Constant { amplitude: value };
-        self.held_torque = Some(value);
+            ));
+        }
+        let before = (self.step == 0).then(|| self.snapshot());
+        self.apply_torque_input(Some(value));
         self.rates = None;
-        if self.step == 0 {
+        if let Some(before) = before {
             // an input set before the first step is part of the initial state (its rigid
-            // acceleration and elastic equilibrium), as a configured torque would be
-            self.initialize()?;
+            // acceleration and elastic equilibrium), as a configured torque would be; if that
+            // equilibrium fails, nothing has changed
+            if let Err(e) = self.initialize() {
+                self.apply(&before);
+                return Err(e);
+            }
         }
         Ok(())
     }
