@@ -19,6 +19,13 @@
 //! search ([`newton`]) over a sparse Cholesky factorisation whose symbolic analysis is done once per
 //! run ([`linsolve`]).
 //!
+//! ## Driving a simulation
+//!
+//! [`Simulation`] is the stepper that the CLI drives too: [`Simulation::step`] with any positive
+//! `dt` (a failed step changes nothing), the held input [`Simulation::set_torque`], outputs on
+//! request, and [`Simulation::snapshot`] / [`Simulation::restore`] of the complete state
+//! ([`Snapshot`], also as bytes).
+//!
 //! ## Units
 //!
 //! SI throughout: m, kg, s, Pa, N, J, rad.
@@ -41,6 +48,7 @@ pub mod progress;
 pub use config::Config;
 pub use error::Error;
 pub use mesh::Mesh;
+pub use simulation::{Energies, Model, Simulation, Snapshot, StepRecord};
 pub mod assembly;
 pub mod constraint;
 pub mod element;

@@ -71,6 +71,14 @@ struct RunArgs {
     /// No progress output.
     #[arg(long, short = 'q')]
     quiet: bool,
+    /// Write the latest snapshot to checkpoint.snap in the results folder every N steps (and at
+    /// the end), for `--restart`.
+    #[arg(long, value_name = "N")]
+    checkpoint_every: Option<usize>,
+    /// Continue the run in DIR from its checkpoint.snap, appending to its results.csv and
+    /// pendulum.pvd (the configuration from DIR/checkpoint.toml; `--set time.end=…` runs longer).
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "force", "config"])]
+    restart: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -209,15 +217,35 @@ fn install_stop_handler(stop: Arc<AtomicBool>) {
 
 /// Runs; `Ok(true)` when the run was interrupted.
 fn run(args: RunArgs) -> Result<bool, Error> {
-    let config = load(&args.cfg)?;
+    if args.checkpoint_every == Some(0) {
+        return Err(Error::Input(
+            "--checkpoint-every 0: allowed N >= 1 (steps between checkpoints)".into(),
+        ));
+    }
+    let config = match &args.restart {
+        Some(dir) => {
+            let file = dir.join(pendulum_fem::commands::run::CHECKPOINT_TOML);
+            if !file.is_file() {
+                return Err(Error::Input(format!(
+                    "run --restart {}: no {} there (a run writes it with --checkpoint-every N)",
+                    dir.display(),
+                    pendulum_fem::commands::run::CHECKPOINT_TOML
+                )));
+            }
+            Config::load(Some(&file), &args.cfg.set)?
+        }
+        None => load(&args.cfg)?,
+    };
     let stop = Arc::new(AtomicBool::new(false));
     install_stop_handler(stop.clone());
     let opts = RunOptions {
         config,
-        out: args.out.clone(),
+        out: args.restart.clone().or_else(|| args.out.clone()),
         force: args.force,
         quiet: args.quiet,
         stop: Some(stop),
+        checkpoint_every: args.checkpoint_every,
+        restart: args.restart.is_some(),
     };
     let summary = pendulum_fem::commands::run::run(&opts)?;
     if summary.end == RunEnd::Interrupted {

@@ -17,6 +17,8 @@
 //! Iterations are counted as linear solves; factorisations are reported separately (NGSolve factorises
 //! once per iteration).
 
+use std::sync::Arc;
+
 use crate::assembly::Pattern;
 use crate::constraint::Hinge;
 use crate::error::NewtonError;
@@ -65,6 +67,15 @@ pub struct NewtonReport {
     pub residual: f64,
 }
 
+/// The matrix of a factorisation and the frame it was made in: enough to remake it exactly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FactorState {
+    /// Upper-triangle values of the factorised matrix in the fixed pattern.
+    pub values: Vec<f64>,
+    /// `(proxy angle, matrix key)` of the factorisation (see [`NewtonSettings`]).
+    pub frame: (f64, f64),
+}
+
 /// Time spent in the parts of a Newton iteration \[s\].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Timings {
@@ -94,6 +105,9 @@ pub struct Solver {
     hinge_columns: Vec<f64>,
     /// `(proxy angle, matrix key)` of the current factorisation.
     factor_frame: Option<(f64, f64)>,
+    /// The matrix of the current factorisation, kept so that it can be remade exactly
+    /// ([`Solver::factor_state`], [`Solver::restore_factor`]); a new `Arc` per factorisation.
+    factored: Option<Arc<FactorState>>,
     /// Positions of the diagonal entries in the pattern's values.
     diagonal: Vec<usize>,
     /// Largest diagonal entry of the last factorised matrix \[N/m\].
@@ -147,6 +161,7 @@ impl Solver {
             trial: vec![0.0; n],
             hinge_columns: vec![0.0; 2 * n],
             factor_frame: None,
+            factored: None,
             diagonal: (0..n)
                 .map(|i| pattern.position(i, i).expect("diagonal in pattern"))
                 .collect(),
@@ -225,16 +240,72 @@ impl Solver {
         report.factorizations += 1;
         if factored.is_err() {
             self.factor_frame = None;
+            self.factored = None;
             return Err(NewtonError::SingularTangent { iteration });
         }
+        let state = Arc::new(FactorState {
+            values: self.k.clone(),
+            frame: (settings.frame_angle, settings.matrix_key),
+        });
+        self.finish_factor(state);
+        Ok(())
+    }
+
+    /// The hinge columns, frame and diagonal scale of the factorisation of `state` just made.
+    fn finish_factor(&mut self, state: Arc<FactorState>) {
         let start = std::time::Instant::now();
         let n = self.g.len();
         self.hinge_columns[..n].copy_from_slice(&self.rows[0]);
         self.hinge_columns[n..].copy_from_slice(&self.rows[1]);
         self.chol.solve_in_place(&mut self.hinge_columns);
         self.timings.solve += start.elapsed().as_secs_f64();
-        self.factor_frame = Some((settings.frame_angle, settings.matrix_key));
-        self.diagonal_max = self.diagonal.iter().fold(0.0f64, |m, &k| m.max(self.k[k].abs()));
+        self.factor_frame = Some(state.frame);
+        self.diagonal_max = self.diagonal.iter().fold(0.0f64, |m, &k| m.max(state.values[k].abs()));
+        self.factored = Some(state);
+    }
+
+    /// The matrix and frame of the current factorisation (`None` before the first one): what
+    /// [`Solver::restore_factor`] needs to remake it. Cheap (a shared pointer).
+    pub fn factor_state(&self) -> Option<Arc<FactorState>> {
+        self.factored.clone()
+    }
+
+    /// Makes `state` the current factorisation again (`None`: none, the next solve factorises).
+    /// The numeric factorisation of the same values with the same symbolic analysis is the same
+    /// bit for bit (faer's factorisation is deterministic), so the solver continues exactly as it
+    /// would have from `state`. Nothing is done when `state` is already the current one.
+    pub fn restore_factor(&mut self, pattern: &Pattern, state: Option<Arc<FactorState>>) -> Result<(), Error> {
+        let same = match (&self.factored, &state) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        if same {
+            return Ok(());
+        }
+        let Some(state) = state else {
+            self.factor_frame = None;
+            self.factored = None;
+            return Ok(());
+        };
+        if state.values.len() != pattern.nnz() {
+            return Err(Error::Input(format!(
+                "factorisation state: {} matrix values for a pattern of {} entries",
+                state.values.len(),
+                pattern.nnz()
+            )));
+        }
+        let start = std::time::Instant::now();
+        let factored = self.chol.factor(pattern, &state.values);
+        self.timings.factorization += start.elapsed().as_secs_f64();
+        if factored.is_err() {
+            self.factor_frame = None;
+            self.factored = None;
+            return Err(Error::Input(
+                "factorisation state: the saved matrix is not positive definite".into(),
+            ));
+        }
+        self.finish_factor(state);
         Ok(())
     }
 

@@ -23,6 +23,10 @@
 //! ([`crate::newmark`]) with Newton ([`crate::newton`]). If Newton fails, the step is split into two
 //! halves, recursively, up to `solver.max_cutbacks` times; then the run stops with an error naming
 //! the step, the time and the last residual ([`Error::TimeStep`]).
+//!
+//! **Stepping interface** (`stepper`): [`Simulation::step`] with any `dt`, rollback of a failed
+//! step, the held torque input, outputs on request; snapshots of the complete state
+//! ([`Snapshot`], `snapshot`).
 
 use crate::assembly::Pattern;
 use crate::config::{Config, InitialAcceleration, InitialElastic, Scheme, TorqueProfile as ProfileKind};
@@ -42,6 +46,12 @@ use crate::terms::{
     DiscreteGradient, Elastic, Gravity, Inertia, Linear, Scaled, StepStart, Term, Torque, TorqueProfile,
 };
 use crate::{Error, Mesh};
+
+mod snapshot;
+mod stepper;
+
+pub use snapshot::{fingerprint, Snapshot, SNAPSHOT_VERSION};
+pub use stepper::Energies;
 
 /// Relative equilibrium tolerance of a converged step: `‖∇Φ + Cᵀλ‖∞ ≤ 10⁻⁴ × load scale`, where the
 /// load scale is the largest nodal gravity or inertia force. Together with the energy-norm criterion
@@ -68,10 +78,14 @@ pub struct Model {
     pub elastic: Elastic,
     /// Gravity term.
     pub gravity: Gravity,
-    /// Further terms (torque, contact), added by later stages.
+    /// The actuator torque, when `[torque]` has a profile other than `"none"` (its profile is the
+    /// configured one, or the value held by [`Simulation::set_torque`]).
+    pub torque: Option<Torque>,
+    /// Further terms (contact), added by later stages.
     pub extra_terms: Vec<Box<dyn Term>>,
-    /// The actuator torque's time profile `M(t)` ([`TorqueProfile::Zero`] without `[torque]`).
-    pub torque_profile: TorqueProfile,
+    /// FNV-1a hash of the configuration (without `time.end` and `[output]`) and the mesh: a
+    /// [`Snapshot`] made for another model is refused ([`Simulation::restore`]).
+    pub fingerprint: u64,
     /// Consistent mass matrix.
     pub mass: MassMatrix,
     /// The hinge.
@@ -99,19 +113,22 @@ impl Model {
         let elastic = Elastic::new(material, &mesh, cache);
         let gravity = Gravity::new(&mesh, rho, t, config.gravity.g);
         let hinge = Hinge::new(&mesh, HINGE_BOUNDARY)?;
-        let mut extra_terms: Vec<Box<dyn Term>> = Vec::new();
-        let mut torque_profile = TorqueProfile::Zero;
+        let extra_terms: Vec<Box<dyn Term>> = Vec::new();
+        let mut torque = None;
         if config.torque.profile != ProfileKind::None {
-            let torque = Torque::from_config(
+            torque = Some(Torque::from_config(
                 &mesh,
                 HINGE_BOUNDARY,
                 &config.torque,
                 config.initial.angle_deg.to_radians(),
-            )?;
-            torque_profile = torque.profile.clone();
-            extra_terms.push(Box::new(torque));
+            )?);
         }
-        let entries: Vec<(usize, usize)> = extra_terms.iter().flat_map(|t| t.hessian_entries()).collect();
+        let fingerprint = snapshot::fingerprint(config, &mesh);
+        let loads = torque
+            .iter()
+            .map(|t| t as &dyn Term)
+            .chain(extra_terms.iter().map(|t| t.as_ref()));
+        let entries: Vec<(usize, usize)> = loads.flat_map(|t| t.hessian_entries()).collect();
         let pattern = Pattern::new(&mesh, &entries);
         let mass = MassMatrix::new(&mesh, &pattern, rho, t);
         let projection = RigidProjection::new(&mesh);
@@ -128,8 +145,9 @@ impl Model {
             pattern,
             elastic,
             gravity,
+            torque,
             extra_terms,
-            torque_profile,
+            fingerprint,
             mass,
             hinge,
             projection,
@@ -159,7 +177,15 @@ impl Model {
     /// `torque.follower = false` this is the moment in the reference position; a body turned by `θ`
     /// receives `M cos θ` ([`crate::terms::torque`]).
     pub fn applied_torque(&self, t: f64) -> f64 {
-        self.torque_profile.value(t)
+        self.torque.as_ref().map_or(0.0, |torque| torque.profile.value(t))
+    }
+
+    /// The load terms after gravity: the torque (if any), then [`Model::extra_terms`].
+    pub fn loads(&self) -> impl Iterator<Item = &dyn Term> {
+        self.torque
+            .iter()
+            .map(|t| t as &dyn Term)
+            .chain(self.extra_terms.iter().map(|t| t.as_ref()))
     }
 
     /// The moment of the actuator about the pivot when the body is rigidly turned by `theta` \[N m\]:
@@ -316,6 +342,18 @@ pub struct Simulation {
     /// Work of the external loads of the extra terms (the torque) since the start \[J\].
     pub torque_work: f64,
     unwrap: Unwrap,
+    /// Proxy angle of the current state, unwrapped \[rad\].
+    theta: f64,
+    /// The time of the state as `base + count · dt` over a run of equal steps.
+    clock: Clock,
+    /// Newton iterations of the last step (0 before the first).
+    last_iterations: usize,
+    /// The torque value held by [`Simulation::set_torque`] \[N m\], if any.
+    held_torque: Option<f64>,
+    /// The torque profile of the configuration (restored when a snapshot without a held value is).
+    configured_torque: Option<TorqueProfile>,
+    /// Nodal stress evaluations so far ([`Simulation::stress_evaluations`]).
+    stress_evaluations: usize,
     scratch: Vec<f64>,
     /// `(t, α)` at the start of the previous (sub)step, for the predictor's `α̇`.
     previous_alpha: Option<(f64, f64)>,
@@ -326,6 +364,68 @@ pub struct Simulation {
     /// For [`Simulation::acceleration_field`]: the mass matrix factorised, the hinge rows and
     /// `M⁻¹Cᵀ`, made on first use.
     mass_solver: Option<(Cholesky, [Vec<f64>; 2], Vec<f64>)>,
+}
+
+/// The time of the state as `base + count · dt`: over a run of steps of the same `dt` the time
+/// is computed, not accumulated (`n · dt` exactly for a run from 0, as `advance` always did), and
+/// any other step starts a new run at the time reached.
+#[derive(Clone, Copy, Debug)]
+struct Clock {
+    base: f64,
+    dt: f64,
+    count: u64,
+}
+
+/// Equal bit for bit (`dt` is NaN before a run).
+impl PartialEq for Clock {
+    fn eq(&self, other: &Self) -> bool {
+        self.base.to_bits() == other.base.to_bits()
+            && self.dt.to_bits() == other.dt.to_bits()
+            && self.count == other.count
+    }
+}
+
+impl Clock {
+    /// t = 0, no run yet.
+    const START: Self = Self {
+        base: 0.0,
+        dt: f64::NAN,
+        count: 0,
+    };
+
+    /// The time \[s\].
+    fn time(&self) -> f64 {
+        if self.count == 0 {
+            self.base
+        } else {
+            self.base + self.count as f64 * self.dt
+        }
+    }
+
+    /// The clock after one more step of `dt`.
+    fn after(&self, dt: f64) -> Self {
+        if dt.to_bits() == self.dt.to_bits() {
+            Self {
+                count: self.count + 1,
+                ..*self
+            }
+        } else {
+            Self {
+                base: self.time(),
+                dt,
+                count: 1,
+            }
+        }
+    }
+
+    /// A clock standing at exactly `t`.
+    fn at(t: f64) -> Self {
+        Self {
+            base: t,
+            dt: f64::NAN,
+            count: 0,
+        }
+    }
 }
 
 /// Rigid-body measures of a state (see [`Simulation::kinematics`]).
@@ -346,7 +446,14 @@ impl Simulation {
     pub fn new(model: Model) -> Result<Self, Error> {
         let solver = Solver::new(&model.pattern, &model.hinge)?;
         let state = model.initial_state();
+        let configured_torque = model.torque.as_ref().map(|t| t.profile.clone());
         let mut sim = Self {
+            theta: 0.0,
+            clock: Clock::START,
+            last_iterations: 0,
+            held_torque: None,
+            configured_torque,
+            stress_evaluations: 0,
             solver,
             state,
             lambda: [0.0; 2],
@@ -363,6 +470,19 @@ impl Simulation {
             mass_solver: None,
             model,
         };
+        sim.initialize()?;
+        Ok(sim)
+    }
+
+    /// Sets the initial state of the configuration (with the current torque input): the rigid
+    /// motion, the hinge force of its balance of linear momentum, the elastic equilibrium.
+    fn initialize(&mut self) -> Result<(), Error> {
+        let sim = self;
+        sim.state = sim.model.initial_state();
+        sim.rates = None;
+        if let Some(torque) = &sim.model.torque {
+            torque.set_reference_angle(sim.model.config.initial.angle_deg.to_radians());
+        }
         // The multipliers of the initial state from the balance of linear momentum:
         // −λ = ∫ ρ t a dA − F_gravity  (the force the hinge must exert on the body).
         let mut ma = vec![0.0; sim.state.a.len()];
@@ -375,7 +495,8 @@ impl Simulation {
         }
         let theta0 = sim.model.projection.angle(&sim.state.u);
         sim.unwrap = Unwrap::starting_at(theta0);
-        Ok(sim)
+        sim.theta = theta0;
+        Ok(())
     }
 
     /// Puts the initial rigid state into elastic equilibrium (see the module doc).
@@ -384,7 +505,7 @@ impl Simulation {
         let mut inertial = vec![0.0; self.state.a.len()];
         m.mass.apply(&self.state.a, &mut inertial);
         let dalembert = Linear { gradient: inertial };
-        for t in &m.extra_terms {
+        for t in m.loads() {
             t.begin_step(&self.state.u, self.state.t);
         }
         let load_scale = dalembert
@@ -422,7 +543,7 @@ impl Simulation {
                 predictor: u.clone(),
             };
             let mut terms: Vec<&dyn Term> = vec![&pin, &m.elastic, &m.gravity, &dalembert];
-            terms.extend(m.extra_terms.iter().map(|t| t.as_ref()));
+            terms.extend(m.loads());
             let before = u.clone();
             self.solver
                 .minimize(&m.pattern, &terms, 0.0, &mut u, &mut lambda, &settings)
@@ -450,7 +571,8 @@ impl Simulation {
 
     /// Post-processes the current state into a CSV record.
     pub fn record(&mut self, newton_iterations: usize) -> StepRecord {
-        let theta = self.unwrap.next(self.model.projection.angle(&self.state.u));
+        let theta = self.theta;
+        let von_mises_max = self.von_mises_max();
         let Kinematics {
             omega,
             alpha,
@@ -472,7 +594,7 @@ impl Simulation {
             gravity,
             total: kinetic + strain + gravity,
             hinge_force: Hinge::reaction(self.lambda),
-            von_mises_max: m.stress.max_von_mises(&m.material, &s.u),
+            von_mises_max,
             newton_iterations,
             torque: m.applied_torque(s.t),
             torque_work: self.torque_work,
@@ -495,7 +617,7 @@ impl Simulation {
             displacement: pairs(&self.state.u),
             velocity: pairs(&self.state.v),
             acceleration,
-            stress: self.model.stress.nodal(&self.model.material, &self.state.u),
+            stress: self.nodal_stress(),
         }
     }
 
@@ -524,7 +646,7 @@ impl Simulation {
         let mut force = vec![0.0; s.u.len()];
         m.elastic.add_gradient(&s.u, t, &mut force);
         m.gravity.add_gradient(&s.u, t, &mut force);
-        for term in &m.extra_terms {
+        for term in m.loads() {
             term.add_gradient(&s.u, t, &mut force);
         }
         force.iter_mut().for_each(|f| *f = -*f);
@@ -602,7 +724,7 @@ impl Simulation {
             self.scratch.resize(x.len(), 0.0);
             self.scratch.iter_mut().for_each(|g| *g = 0.0);
             m.gravity.add_gradient(&self.state.u, self.state.t, &mut self.scratch);
-            for term in &m.extra_terms {
+            for term in m.loads() {
                 term.add_gradient(&self.state.u, self.state.t, &mut self.scratch);
             }
             let moment: f64 = (0..x.len() / 2)
@@ -662,7 +784,7 @@ impl Simulation {
         let load_scale = self.load_scale(t_new);
         let kinetic = self.kinematics().kinetic;
         let m = &self.model;
-        for term in &m.extra_terms {
+        for term in m.loads() {
             term.begin_step(&self.state.u, t0);
         }
         let u0 = &self.state.u;
@@ -674,7 +796,7 @@ impl Simulation {
             predictor: EnergyMomentum::predictor(dt, &self.state),
         };
         let mut physical: Vec<(&dyn Term, f64)> = vec![(&m.elastic, 1.0 + chi), (&m.gravity, 1.0)];
-        physical.extend(m.extra_terms.iter().map(|t| (t.as_ref(), 1.0)));
+        physical.extend(m.loads().map(|t| (t, 1.0)));
         let starts: Vec<Vec<f64>> = physical.iter().map(|(t, _)| t.discrete_start(u0, t0)).collect();
         let discrete: Vec<DiscreteGradient> = physical
             .iter()
@@ -731,7 +853,7 @@ impl Simulation {
         let t_new = self.state.t + dt;
         let load_scale = self.load_scale(t_new);
         let m = &self.model;
-        for term in &m.extra_terms {
+        for term in m.loads() {
             term.begin_step(&self.state.u, self.state.t);
         }
         let inertia = Inertia {
@@ -741,7 +863,7 @@ impl Simulation {
             predictor: m.newmark.predict_u(dt, &self.state),
         };
         let mut physical: Vec<&dyn Term> = vec![&m.elastic, &m.gravity];
-        physical.extend(m.extra_terms.iter().map(|t| t.as_ref()));
+        physical.extend(m.loads());
         // HHT-α: (1 + α) Π(u, tₙ₊₁) − α ∇Π(uₙ, tₙ)·u; plain terms for the trapezoidal rule.
         let alpha = m.hht_alpha;
         let scaled: Vec<Scaled> = physical
@@ -794,8 +916,7 @@ impl Simulation {
                 let old = &self.state;
                 self.torque_work += self
                     .model
-                    .extra_terms
-                    .iter()
+                    .loads()
                     .map(|term| term.external_work(&old.u, old.t, &state.u, state.t))
                     .sum::<f64>();
                 self.state = state;
@@ -813,7 +934,8 @@ impl Simulation {
         }
     }
 
-    /// Advances one user step of `time.dt` and returns its record.
+    /// Advances one step of `time.dt` ([`Simulation::step`]) and returns its record (with the
+    /// nodal stresses of [`StepRecord::von_mises_max`]).
     ///
     /// A step whose predicted rotation `|ω| Δt + ½ |α| Δt²` exceeds `time.max_rotation_deg` is split
     /// into 2, 4, 8, … equal sub-steps (powers of two, so the sub-step changes rarely). The
@@ -821,10 +943,7 @@ impl Simulation {
     /// rate per step; the default 3° keeps that below 2.3e-4 and never splits the tutorial's swing
     /// (at most 1.3° per step).
     pub fn advance(&mut self) -> Result<StepRecord, Error> {
-        let dt = self.model.config.time.dt;
-        let its = self.advance_over(dt)?;
-        // exact step times, free of accumulated rounding
-        self.state.t = self.step as f64 * dt;
+        let its = self.step(self.model.config.time.dt)?;
         Ok(self.record(its))
     }
 
@@ -857,19 +976,9 @@ impl Simulation {
     }
 
     /// Advances one step from the current time to `t_end` (> the current time) and returns its
-    /// record, with the time set to exactly `t_end`. For a last step shorter than `time.dt`, so that
-    /// a run lands on a `time.end` that is not a multiple of `time.dt`. Sub-steps and cut-backs as
-    /// in [`Simulation::advance`].
+    /// record, with the time set to exactly `t_end` ([`Simulation::step_to`]).
     pub fn advance_to(&mut self, t_end: f64) -> Result<StepRecord, Error> {
-        let t0 = self.state.t;
-        let dt = t_end - t0;
-        if !(dt > 0.0 && dt.is_finite()) {
-            return Err(Error::Input(format!(
-                "advance_to({t_end} s) from t = {t0} s: the end must lie after the current time"
-            )));
-        }
-        let its = self.advance_over(dt)?;
-        self.state.t = t_end;
+        let its = self.step_to(t_end)?;
         Ok(self.record(its))
     }
 }

@@ -38,6 +38,8 @@ fn quiet_run(mut config: Config, out: PathBuf) -> RunSummary {
         force: true,
         quiet: true,
         stop: None,
+        checkpoint_every: None,
+        restart: false,
     };
     run(&opts).unwrap()
 }

@@ -31,6 +31,8 @@ fn run_into(name: &str, config: Config) -> (Result<RunSummary, pendulum_fem::Err
         force: false,
         quiet: true,
         stop: None,
+        checkpoint_every: None,
+        restart: false,
     };
     (run(&opts), dir)
 }
@@ -155,6 +157,8 @@ fn the_largest_von_mises_of_csv_and_summary_is_the_largest_value_of_the_frames_f
         force: false,
         quiet: true,
         stop: None,
+        checkpoint_every: None,
+        restart: false,
     };
     let mut largest_shown = 0.0f64;
     let summary = run_with(&opts, dir, |sim, record| {

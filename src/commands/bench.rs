@@ -43,6 +43,8 @@ pub fn time_default_run(cfg: &Config) -> Result<RunSummary, Error> {
         force: true,
         quiet: true,
         stop: None,
+        checkpoint_every: None,
+        restart: false,
     };
     let s = run_with(&opts, dir.clone(), |_, _| Ok(()));
     let _ = std::fs::remove_dir_all(&dir);

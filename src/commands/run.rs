@@ -28,7 +28,18 @@ pub struct RunOptions {
     /// When set (by a Ctrl-C or SIGTERM handler), the run stops at the next step boundary and
     /// finishes its outputs with what was computed ([`RunEnd::Interrupted`]).
     pub stop: Option<Arc<AtomicBool>>,
+    /// Write the latest snapshot to [`CHECKPOINT_SNAP`] in the output folder every this many steps
+    /// and when the run ends (completed or interrupted), with the configuration in
+    /// [`CHECKPOINT_TOML`]; `None`: no checkpoints.
+    pub checkpoint_every: Option<usize>,
+    /// Continue the run in `out` from its [`CHECKPOINT_SNAP`] (see [`run`]).
+    pub restart: bool,
 }
+
+/// The latest snapshot of a run with checkpoints ([`crate::Snapshot::to_bytes`]).
+pub const CHECKPOINT_SNAP: &str = "checkpoint.snap";
+/// The configuration of a run with checkpoints, read by `run --restart`.
+pub const CHECKPOINT_TOML: &str = "checkpoint.toml";
 
 /// Figures of a finished run.
 #[derive(Clone, Debug, Default)]
@@ -109,9 +120,153 @@ pub fn csv_values(r: &StepRecord) -> Vec<f64> {
 
 /// The main job: prepares the output folder (before computing anything), then runs with every
 /// output the configuration asks for.
+///
+/// **Restart** (`opts.restart`, the folder in `opts.out`): the run continues from the folder's
+/// [`CHECKPOINT_SNAP`] (made with the same configuration and mesh; `time.end` may be larger). The
+/// rows of `results.csv` after the checkpoint's step are dropped (they are computed again; the
+/// checkpoint's own row must equal the restored state's, bit for bit), the ParaView frames up to it
+/// stay in `pendulum.pvd`, and both are appended to, so that `results.csv` is byte for byte that
+/// of an uninterrupted run with the same steps. The animations and the viewer show the frames from
+/// the checkpoint on; the plots are drawn from the whole `results.csv`. A run finished on a
+/// shortened last step (`time.end` off the `time.dt` grid) continues from there with steps of
+/// `time.dt`, which an uninterrupted run would not have taken.
 pub fn run(opts: &RunOptions) -> Result<RunSummary, Error> {
-    let out_dir = prepare_output_dir(&opts.config.output.dir, opts.out.as_deref(), opts.force)?;
+    let out_dir = if opts.restart {
+        let dir = opts
+            .out
+            .clone()
+            .ok_or_else(|| Error::Input("run --restart: name the folder of the run to continue".into()))?;
+        let snap = dir.join(CHECKPOINT_SNAP);
+        if !snap.is_file() {
+            return Err(Error::Input(format!(
+                "run --restart {}: no {CHECKPOINT_SNAP} there (a run writes it with --checkpoint-every N)",
+                dir.display()
+            )));
+        }
+        // refuse another model before anything in the folder is touched
+        let bytes = std::fs::read(&snap).map_err(|e| Error::io(&snap, e))?;
+        let snapshot = crate::Snapshot::from_bytes(&bytes, &snap.display().to_string())?;
+        let model = crate::simulation::fingerprint(&opts.config, &mesh::generate(&opts.config)?);
+        if snapshot.fingerprint() != model {
+            return Err(Error::Input(format!(
+                "{}: made for another model (fingerprint {:016x}; this configuration and mesh give {model:016x}): \
+                 restart with the configuration of the run (only time.end and [output] may change)",
+                snap.display(),
+                snapshot.fingerprint()
+            )));
+        }
+        dir
+    } else {
+        prepare_output_dir(&opts.config.output.dir, opts.out.as_deref(), opts.force)?
+    };
     run_with_outputs(opts, out_dir, true, |_, _| Ok(()))
+}
+
+/// Writes the snapshot of `sim` to `dir/checkpoint.snap` atomically (a temporary file, then a
+/// rename: a run killed meanwhile leaves the previous checkpoint intact).
+fn write_checkpoint(dir: &std::path::Path, sim: &Simulation) -> Result<(), Error> {
+    let path = dir.join(CHECKPOINT_SNAP);
+    let bytes = sim.snapshot().to_bytes();
+    crate::io::vtu::write_atomically(&path, |w| w.write_all(&bytes))
+}
+
+/// Writes the configuration of a run with checkpoints to `dir/checkpoint.toml` (file paths made
+/// absolute, so that it reads back from any folder).
+fn write_checkpoint_config(dir: &std::path::Path, cfg: &Config) -> Result<(), Error> {
+    let mut cfg = cfg.clone();
+    for file in [&mut cfg.mesh.file, &mut cfg.torque.file].into_iter().flatten() {
+        if let Ok(abs) = std::path::absolute(&*file) {
+            *file = abs;
+        }
+    }
+    let text = toml::to_string(&cfg).map_err(|e| Error::Input(format!("{CHECKPOINT_TOML}: {e}")))?;
+    let path = dir.join(CHECKPOINT_TOML);
+    crate::io::vtu::write_atomically(&path, |w| w.write_all(text.as_bytes()))
+}
+
+/// The records before a restarted run's checkpoint and the `(step, time)` of every row up to and
+/// including it.
+type Resumed = (Vec<StepRecord>, Vec<(usize, f64)>);
+
+/// A restarted run: the state is restored from the checkpoint, `results.csv` is cut after the
+/// checkpoint's row; returns the rows before the checkpoint's (as records) and the `(step, time)`
+/// of every row up to and including it.
+fn resume(dir: &std::path::Path, sim: &mut Simulation) -> Result<Resumed, Error> {
+    let snap_path = dir.join(CHECKPOINT_SNAP);
+    let bytes = std::fs::read(&snap_path).map_err(|e| Error::io(&snap_path, e))?;
+    let snap = crate::Snapshot::from_bytes(&bytes, &snap_path.display().to_string())?;
+    sim.restore(&snap)
+        .map_err(|e| Error::Input(format!("{}: {e}", snap_path.display())))?;
+    let k = snap.step();
+    let csv_path = dir.join("results.csv");
+    let text = std::fs::read_to_string(&csv_path).map_err(|e| Error::io(&csv_path, e))?;
+    // the header and the rows of steps 0..=k, each ending in a newline
+    let mut end = 0;
+    for line in 0..k + 2 {
+        match text[end..].find('\n') {
+            Some(i) => end += i + 1,
+            None => {
+                return Err(Error::Input(format!(
+                    "{}: {} complete rows, but the checkpoint is at step {k}: the file does not belong to it",
+                    csv_path.display(),
+                    line.saturating_sub(1)
+                )))
+            }
+        }
+    }
+    let mut rows = Vec::with_capacity(k + 1);
+    for (i, line) in text[..end].lines().skip(1).enumerate() {
+        let values: Result<Vec<f64>, _> = line.split(',').map(str::parse::<f64>).collect();
+        match values {
+            Ok(v) if v.len() == 15 => rows.push(record_of_row(i, &v)),
+            _ => {
+                return Err(Error::Input(format!(
+                    "{}:{}: not a row of 15 numbers",
+                    csv_path.display(),
+                    i + 2
+                )))
+            }
+        }
+    }
+    let its = sim.last_newton_iterations();
+    let now = csv_values(&sim.record(its));
+    let row_k = csv_values(&rows[k]);
+    if now.iter().zip(&row_k).any(|(a, b)| a.to_bits() != b.to_bits()) {
+        return Err(Error::Input(format!(
+            "{}: the row of step {k} differs from the state of {}: they are not of the same run",
+            csv_path.display(),
+            snap_path.display()
+        )));
+    }
+    let file = std::fs::OpenOptions::new()
+        .write(true)
+        .open(&csv_path)
+        .map_err(|e| Error::io(&csv_path, e))?;
+    file.set_len(end as u64).map_err(|e| Error::io(&csv_path, e))?;
+    let times = rows.iter().map(|r| (r.step, r.time)).collect();
+    rows.truncate(k);
+    Ok((rows, times))
+}
+
+/// The record of a `results.csv` row (in [`csv_values`] order) of step `step`.
+fn record_of_row(step: usize, v: &[f64]) -> StepRecord {
+    StepRecord {
+        step,
+        time: v[0],
+        theta: v[1],
+        omega: v[2],
+        alpha: v[3],
+        kinetic: v[4],
+        strain: v[5],
+        gravity: v[6],
+        total: v[7],
+        hinge_force: [v[8], v[9]],
+        von_mises_max: v[10],
+        newton_iterations: v[11] as usize,
+        torque: v[12],
+        torque_work: v[13],
+        angular_momentum: v[14],
+    }
 }
 
 /// Runs the simulation described by `opts` writing only `results.csv`, calling `observe` after
@@ -222,7 +377,17 @@ fn run_steps(
     let seconds_setup = t_setup.elapsed().as_secs_f64();
     let t_steps = Instant::now();
     let csv_path = out_dir.join("results.csv");
-    let mut csv = CsvWriter::create(&csv_path, StepRecord::HEADER)?;
+    let (earlier, earlier_times) = match opts.restart {
+        true => resume(&out_dir, &mut sim)?,
+        false => Default::default(),
+    };
+    if opts.checkpoint_every.is_some() {
+        write_checkpoint_config(&out_dir, cfg)?;
+    }
+    let mut csv = match opts.restart {
+        true => CsvWriter::append(&csv_path, StepRecord::HEADER)?,
+        false => CsvWriter::create(&csv_path, StepRecord::HEADER)?,
+    };
     let mut summary = RunSummary {
         out_dir: out_dir.clone(),
         mesh_triangles: sim.model.mesh.triangles.len(),
@@ -238,14 +403,21 @@ fn run_steps(
             eprintln!("{warning}");
         }
     }
-    let mut writers = match frames {
-        true => Some(FrameWriter::start(FrameWriters::new(
+    let mut writers = match (frames, opts.restart) {
+        (true, false) => Some(FrameWriter::start(FrameWriters::new(
             &out_dir,
             &sim.model.mesh,
             o,
             None,
         )?)),
-        false => None,
+        (true, true) => Some(FrameWriter::start(FrameWriters::resume(
+            &out_dir,
+            &sim.model.mesh,
+            o,
+            None,
+            &earlier_times,
+        )?)),
+        (false, _) => None,
     };
     let mode = if opts.quiet {
         ProgressMode::Quiet
@@ -259,16 +431,27 @@ fn run_steps(
     let plan = StepPlan::of(&cfg.time);
     summary.last_step = plan.last;
     let stop_requested = || opts.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst));
-    let mut record = sim.record(0);
+    for r in &earlier {
+        period.push(r.time, r.theta);
+        summary.theta_range.0 = summary.theta_range.0.min(r.theta);
+        summary.theta_range.1 = summary.theta_range.1.max(r.theta);
+        summary.von_mises_max = summary.von_mises_max.max(r.von_mises_max);
+        audit.push(r);
+    }
+    let mut record = sim.record(sim.last_newton_iterations());
+    // a restarted run's first record (the checkpoint's) is in results.csv and the frames already
+    let mut resumed = opts.restart;
     // The loop ends with `Ok(())` (completed or interrupted) or the error that stopped it; the
     // outputs of what was computed are finished either way.
     let stopped: Result<(), Error> = loop {
-        if let Err(e) = csv.row(&csv_values(&record)) {
-            break Err(e);
+        if !resumed {
+            if let Err(e) = csv.row(&csv_values(&record)) {
+                break Err(e);
+            }
         }
         *reached = Some((record.step, record.time));
         if let Some(w) = writers.as_mut() {
-            if wants_frames && w.wants(record.step) {
+            if wants_frames && w.wants(record.step) && !resumed {
                 let t_out = Instant::now();
                 if let Err(e) = w.send(sim.frame_data(record.theta), false) {
                     break Err(e);
@@ -289,6 +472,16 @@ fn run_steps(
         if cfg.output.energy_watchdog > 0.0 && error > cfg.output.energy_watchdog {
             break Err(audit.divergence(&record, cfg.output.energy_watchdog));
         }
+        if let Some(every) = opts.checkpoint_every {
+            if sim.step.is_multiple_of(every.max(1)) && !resumed {
+                // every row and frame up to this step on disk first, then the snapshot
+                let written = csv.flush().and_then(|()| writers.as_mut().map_or(Ok(()), |w| w.sync()));
+                if let Err(e) = written.and_then(|()| write_checkpoint(&out_dir, &sim)) {
+                    break Err(e);
+                }
+            }
+        }
+        resumed = false;
         if sim.step >= plan.steps() {
             break Ok(());
         }
@@ -296,13 +489,14 @@ fn run_steps(
             summary.end = RunEnd::Interrupted;
             break Ok(());
         }
-        let next = if sim.step < plan.full {
-            sim.advance()
+        // the stepper advances; the record (with the nodal stresses) is this loop's observation
+        let stepped = if sim.step < plan.full {
+            sim.step(cfg.time.dt)
         } else {
-            sim.advance_to(cfg.time.end)
+            sim.step_to(cfg.time.end)
         };
-        match next {
-            Ok(r) => record = r,
+        match stepped {
+            Ok(its) => record = sim.record(its),
             Err(e) => break Err(e),
         }
     };
@@ -320,6 +514,15 @@ fn run_steps(
         Ok(path) => summary.files.push(path),
         Err(e) => {
             first_error.get_or_insert(e);
+        }
+    }
+    // the end of a completed or interrupted run is a checkpoint too (a finished run can be continued)
+    if let (None, Some(_)) = (&first_error, opts.checkpoint_every) {
+        match write_checkpoint(&out_dir, &sim) {
+            Ok(()) => summary.files.push(out_dir.join(CHECKPOINT_SNAP)),
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
         }
     }
     if let Some(w) = writers {
@@ -473,11 +676,20 @@ pub fn output_size_warning(cfg: &crate::Config, mesh: &crate::Mesh) -> Option<St
 /// frames for the pictures overlaps the time stepping. The channel holds at most
 /// [`FRAME_QUEUE`] frames, so memory stays bounded when the writer falls behind.
 struct FrameWriter {
-    /// Frames and whether each is the run's last.
-    sender: Option<std::sync::mpsc::SyncSender<(crate::simulation::FrameData, bool)>>,
+    /// Frames (and whether each is the run's last), or a request to confirm that every frame
+    /// before it is written.
+    sender: Option<std::sync::mpsc::SyncSender<FrameMessage>>,
     handle: Option<std::thread::JoinHandle<Result<FrameWriters, Error>>>,
     /// The thinning of the writers (they live on the thread).
     wants: crate::io::writers::Thinning,
+}
+
+/// What the run sends to the frame writer thread.
+enum FrameMessage {
+    /// A frame, and whether it is the run's last.
+    Frame(crate::simulation::FrameData, bool),
+    /// Answer on this channel once every frame before has been written.
+    Sync(std::sync::mpsc::Sender<()>),
 }
 
 /// Frames waiting for the writer thread at most.
@@ -486,13 +698,15 @@ const FRAME_QUEUE: usize = 4;
 impl FrameWriter {
     fn start(mut writers: FrameWriters) -> Self {
         let wants = writers.clone_thinning();
-        let (sender, receiver) = std::sync::mpsc::sync_channel::<(crate::simulation::FrameData, bool)>(FRAME_QUEUE);
+        let (sender, receiver) = std::sync::mpsc::sync_channel::<FrameMessage>(FRAME_QUEUE);
         let handle = std::thread::spawn(move || {
-            for (data, last) in receiver {
-                if last {
-                    writers.last_frame(&data.as_frame())?;
-                } else {
-                    writers.frame(&data.as_frame())?;
+            for message in receiver {
+                match message {
+                    FrameMessage::Frame(data, true) => writers.last_frame(&data.as_frame())?,
+                    FrameMessage::Frame(data, false) => writers.frame(&data.as_frame())?,
+                    FrameMessage::Sync(done) => {
+                        let _ = done.send(());
+                    }
                 }
             }
             Ok(writers)
@@ -515,9 +729,24 @@ impl FrameWriter {
         let sent = self
             .sender
             .as_ref()
-            .map(|s| s.send((data, last)).is_ok())
+            .map(|s| s.send(FrameMessage::Frame(data, last)).is_ok())
             .unwrap_or(false);
         if sent {
+            return Ok(());
+        }
+        self.sender = None;
+        Err(self.join_error())
+    }
+
+    /// Waits until every frame sent so far is written (before a checkpoint); if the writer
+    /// thread has stopped with an error, returns that error.
+    fn sync(&mut self) -> Result<(), Error> {
+        let (done, wait) = std::sync::mpsc::channel();
+        let confirmed = self
+            .sender
+            .as_ref()
+            .is_some_and(|s| s.send(FrameMessage::Sync(done)).is_ok() && wait.recv().is_ok());
+        if confirmed {
             return Ok(());
         }
         self.sender = None;

@@ -28,6 +28,34 @@ impl CsvWriter {
         })
     }
 
+    /// Opens `path`, an existing CSV whose first line is `header`, to append rows to it (a
+    /// restarted run, [`crate::commands::run`]).
+    pub fn append(path: &Path, header: &str) -> Result<Self, Error> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let first = text.lines().next().unwrap_or_default();
+        if first != header {
+            return Err(Error::Input(format!(
+                "{}: the header `{first}` is not this program's `{header}`",
+                path.display()
+            )));
+        }
+        let file = std::fs::OpenOptions::new()
+            .append(true)
+            .open(path)
+            .map_err(|e| Error::io(path, e))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            out: std::io::BufWriter::new(file),
+            columns: header.split(',').count(),
+        })
+    }
+
+    /// Writes the rows so far to the file (before a checkpoint, so that the file holds at least
+    /// every row up to it).
+    pub fn flush(&mut self) -> Result<(), Error> {
+        self.out.flush().map_err(|e| Error::io(&self.path, e))
+    }
+
     /// Appends one row.
     ///
     /// # Panics

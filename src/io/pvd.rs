@@ -51,6 +51,20 @@ impl PvdWriter {
         Ok(w)
     }
 
+    /// Continues a collection in `dir` with the frames `entries` (`(time, relative file name)`)
+    /// of an earlier, restarted run; rewrites `dir/pendulum.pvd` with them.
+    pub fn resume(dir: &Path, entries: Vec<(f64, String)>) -> Result<Self, Error> {
+        let frames = dir.join(FRAMES_DIR);
+        std::fs::create_dir_all(&frames).map_err(|e| Error::io(&frames, e))?;
+        let w = Self {
+            dir: dir.to_path_buf(),
+            written: entries.iter().map(|(_, rel)| dir.join(rel)).collect(),
+            entries,
+        };
+        w.write_pvd()?;
+        Ok(w)
+    }
+
     /// Path of the collection file.
     pub fn pvd_path(&self) -> PathBuf {
         self.dir.join(PVD_NAME)

@@ -119,6 +119,35 @@ impl FrameWriters {
         })
     }
 
+    /// Continues the frame outputs of a restarted run in `dir`: `earlier` are the `(step, time)`
+    /// of the steps already computed (up to the checkpoint). Their ParaView frames (the steps on the
+    /// `output.paraview_every` stride, as an uninterrupted run writes them) stay in `pendulum.pvd`;
+    /// the animations and the viewer show the frames from the checkpoint on.
+    pub fn resume(
+        dir: &Path,
+        mesh: &Mesh,
+        output: &Output,
+        wall_x: Option<f64>,
+        earlier: &[(usize, f64)],
+    ) -> Result<Self, Error> {
+        let mut w = Self::new(dir, mesh, output, wall_x)?;
+        if w.pvd.is_some() {
+            let stride = output.paraview_stride();
+            let kept: Vec<(usize, f64)> = earlier
+                .iter()
+                .copied()
+                .filter(|(step, _)| step.is_multiple_of(stride))
+                .collect();
+            let entries = kept
+                .iter()
+                .map(|(step, time)| (*time, format!("{}/step_{step:05}.vtu", super::pvd::FRAMES_DIR)))
+                .collect();
+            w.pvd = Some(PvdWriter::resume(dir, entries)?);
+            w.last_pvd = kept.last().map(|(step, _)| *step);
+        }
+        Ok(w)
+    }
+
     /// Whether [`FrameWriters::frame`] would write anything for `step`.
     pub fn wants(&self, step: usize) -> bool {
         self.clone_thinning().wants(step)

@@ -258,8 +258,12 @@ impl Term for Elastic {
         "elastic"
     }
 
+    /// Element energies in parallel, summed in element order: rayon's parallel `sum` associates
+    /// the terms as its work stealing happens to split them, which made the strain energy (and the
+    /// line search that compares energies) differ in the last bits from run to run.
     fn energy(&self, u: &[f64], _t: f64) -> f64 {
         let nq = self.cache.points_per_element;
+        let mut energies = Vec::with_capacity(self.triangles.len());
         (0..self.triangles.len())
             .into_par_iter()
             .map(|e| {
@@ -270,7 +274,8 @@ impl Term for Elastic {
                 }
                 s
             })
-            .sum()
+            .collect_into_vec(&mut energies);
+        energies.iter().sum()
     }
 
     fn add_gradient(&self, u: &[f64], _t: f64, g: &mut [f64]) {

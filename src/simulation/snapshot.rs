@@ -1,0 +1,438 @@
+//! Snapshots of a simulation's complete state, in memory and as bytes.
+//!
+//! A [`Snapshot`] holds everything that determines the steps after it: the fields `u, v, a` and the
+//! time, the hinge multipliers, the counters (steps, Newton iterations, factorisations, cut-backs),
+//! the unwrapped θ (the branch of the unwrapping), the `(t, α)` of the previous step (the
+//! predictor's `α̇`), the run of equal steps of the clock, the Newton iterations of the last step,
+//! the torque's work, the torque term's reference angle and the held torque input, and the
+//! solver's reusable factorisation. The factorisation is reused across steps, so the iterates of
+//! later steps depend on it bit for bit; the snapshot keeps the *matrix* that was factorised and its
+//! frame (not the factor), and restoring factorises that matrix again, which reproduces the factor
+//! exactly. Caches that are functions of the state (the rigid-body rates, the mass factorisation of
+//! the frames) are recomputed on demand. Hence restore + the same steps is bit for bit the run that
+//! never left.
+//!
+//! **Bytes** ([`Snapshot::to_bytes`], [`Snapshot::from_bytes`]), little-endian:
+//!
+//! ```text
+//! "PFEMSNAP"  magic (8 bytes)
+//! u32         format version (SNAPSHOT_VERSION)
+//! u64         model fingerprint: FNV-1a of the configuration (without time.end and [output])
+//!             and of the mesh (node coordinates and triangles)
+//! …           the fields in the order of `Snapshot::write_fields`: f64 as IEEE bits, counts as
+//!             u64, options as a byte 0/1 and the value, vectors as a u64 length and the values
+//! u64         FNV-1a of every byte before it (a damaged or truncated file is refused)
+//! ```
+//!
+//! A snapshot restores only into a model with the same fingerprint ([`Simulation::restore`]); a
+//! longer `time.end` or other outputs keep the fingerprint (so a finished run can be continued).
+
+use std::sync::Arc;
+
+use super::{Clock, Simulation};
+use crate::config::Config;
+use crate::newmark::State;
+use crate::newton::FactorState;
+use crate::post::Unwrap;
+use crate::{Error, Mesh};
+
+/// Version of the byte format of [`Snapshot::to_bytes`].
+pub const SNAPSHOT_VERSION: u32 = 1;
+
+const MAGIC: &[u8; 8] = b"PFEMSNAP";
+
+/// The complete state of a [`Simulation`] (see the module doc).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snapshot {
+    fingerprint: u64,
+    state: State,
+    lambda: [f64; 2],
+    step: usize,
+    total_iterations: usize,
+    total_factorizations: usize,
+    cutbacks: usize,
+    torque_work: f64,
+    theta: f64,
+    previous_alpha: Option<(f64, f64)>,
+    clock: Clock,
+    last_iterations: usize,
+    torque_reference: Option<f64>,
+    held_torque: Option<f64>,
+    factor: Option<Arc<FactorState>>,
+}
+
+/// 64-bit FNV-1a.
+#[derive(Clone, Copy, Debug)]
+struct Fnv(u64);
+
+impl Fnv {
+    const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+
+    fn new() -> Self {
+        Self(Self::OFFSET)
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(Self::PRIME);
+        }
+    }
+}
+
+/// FNV-1a of `bytes`.
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h = Fnv::new();
+    h.write(bytes);
+    h.0
+}
+
+/// The model fingerprint: FNV-1a of the configuration as JSON without `time.end` and `[output]`
+/// (they do not change the state of a step), then of every node coordinate (IEEE bits) and every
+/// triangle's node numbers.
+pub fn fingerprint(config: &Config, mesh: &Mesh) -> u64 {
+    let mut h = Fnv::new();
+    let mut json = serde_json::to_value(config).unwrap_or(serde_json::Value::Null);
+    if let Some(obj) = json.as_object_mut() {
+        obj.remove("output");
+        if let Some(time) = obj.get_mut("time").and_then(|t| t.as_object_mut()) {
+            time.remove("end");
+        }
+    }
+    h.write(json.to_string().as_bytes());
+    for p in &mesh.nodes {
+        h.write(&p[0].to_bits().to_le_bytes());
+        h.write(&p[1].to_bits().to_le_bytes());
+    }
+    for t in &mesh.triangles {
+        for &n in t {
+            h.write(&(n as u64).to_le_bytes());
+        }
+    }
+    h.0
+}
+
+impl Simulation {
+    /// The complete state now (see the module doc). Cheap apart from copying the fields: the
+    /// factorisation is shared, not copied.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            fingerprint: self.model.fingerprint,
+            state: self.state.clone(),
+            lambda: self.lambda,
+            step: self.step,
+            total_iterations: self.total_iterations,
+            total_factorizations: self.total_factorizations,
+            cutbacks: self.cutbacks,
+            torque_work: self.torque_work,
+            theta: self.theta,
+            previous_alpha: self.previous_alpha,
+            clock: self.clock,
+            last_iterations: self.last_iterations,
+            torque_reference: self.model.torque.as_ref().map(|t| t.reference_angle()),
+            held_torque: self.held_torque,
+            factor: self.solver.factor_state(),
+        }
+    }
+
+    /// Returns to the state of `snapshot`: the following steps are bit for bit those that followed
+    /// when it was taken. A snapshot of another model (another fingerprint: configuration or mesh)
+    /// or of fields of another size is an error, and nothing is changed then.
+    pub fn restore(&mut self, snapshot: &Snapshot) -> Result<(), Error> {
+        if snapshot.fingerprint != self.model.fingerprint {
+            return Err(Error::Input(format!(
+                "snapshot: made for another model (fingerprint {:016x}; this model's configuration and mesh give \
+                 {:016x}): restore a snapshot only into the configuration and mesh it was made with (time.end and \
+                 [output] may differ)",
+                snapshot.fingerprint, self.model.fingerprint
+            )));
+        }
+        let n = self.state.u.len();
+        let s = &snapshot.state;
+        if s.u.len() != n || s.v.len() != n || s.a.len() != n {
+            return Err(Error::Input(format!(
+                "snapshot: fields of {} values for a mesh of {n} degrees of freedom",
+                s.u.len()
+            )));
+        }
+        if snapshot.torque_reference.is_some() != self.model.torque.is_some() {
+            return Err(Error::Input(
+                "snapshot: made with a torque term where this model has none, or the other way round".into(),
+            ));
+        }
+        self.apply(snapshot);
+        Ok(())
+    }
+
+    /// Sets every part of the state from `s` (no checks; see [`Simulation::restore`]).
+    pub(super) fn apply(&mut self, s: &Snapshot) {
+        self.state = s.state.clone();
+        self.lambda = s.lambda;
+        self.step = s.step;
+        self.total_iterations = s.total_iterations;
+        self.total_factorizations = s.total_factorizations;
+        self.cutbacks = s.cutbacks;
+        self.torque_work = s.torque_work;
+        self.theta = s.theta;
+        self.unwrap = Unwrap::starting_at(s.theta);
+        self.previous_alpha = s.previous_alpha;
+        self.clock = s.clock;
+        self.last_iterations = s.last_iterations;
+        self.apply_torque_input(s.held_torque);
+        if let (Some(torque), Some(phi)) = (&self.model.torque, s.torque_reference) {
+            torque.set_reference_angle(phi);
+        }
+        self.rates = None;
+        // The matrix was factorised before with this symbolic analysis; should that fail now, the
+        // next step factorises afresh.
+        if self
+            .solver
+            .restore_factor(&self.model.pattern, s.factor.clone())
+            .is_err()
+        {
+            let _ = self.solver.restore_factor(&self.model.pattern, None);
+        }
+    }
+}
+
+struct Writer(Vec<u8>);
+
+impl Writer {
+    fn u8(&mut self, x: u8) {
+        self.0.push(x);
+    }
+    fn u32(&mut self, x: u32) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+    fn u64(&mut self, x: u64) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+    fn usize(&mut self, x: usize) {
+        self.u64(x as u64);
+    }
+    fn f64(&mut self, x: f64) {
+        self.u64(x.to_bits());
+    }
+    fn opt_f64(&mut self, x: Option<f64>) {
+        match x {
+            Some(v) => {
+                self.u8(1);
+                self.f64(v);
+            }
+            None => self.u8(0),
+        }
+    }
+    fn vec(&mut self, v: &[f64]) {
+        self.usize(v.len());
+        v.iter().for_each(|&x| self.f64(x));
+    }
+}
+
+struct Reader<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+    source: &'a str,
+}
+
+impl Reader<'_> {
+    fn take(&mut self, n: usize, what: &str) -> Result<&[u8], Error> {
+        if self.bytes.len() - self.pos < n {
+            return Err(Error::Input(format!(
+                "{}: truncated snapshot: {what} at byte {} needs {n} bytes, {} remain",
+                self.source,
+                self.pos,
+                self.bytes.len() - self.pos
+            )));
+        }
+        let s = &self.bytes[self.pos..self.pos + n];
+        self.pos += n;
+        Ok(s)
+    }
+    fn u8(&mut self, what: &str) -> Result<u8, Error> {
+        Ok(self.take(1, what)?[0])
+    }
+    fn u64(&mut self, what: &str) -> Result<u64, Error> {
+        Ok(u64::from_le_bytes(self.take(8, what)?.try_into().expect("8 bytes")))
+    }
+    fn usize(&mut self, what: &str) -> Result<usize, Error> {
+        let at = self.pos;
+        let x = self.u64(what)?;
+        usize::try_from(x).map_err(|_| Error::Input(format!("{}: {what} at byte {at}: {x} is too large", self.source)))
+    }
+    fn f64(&mut self, what: &str) -> Result<f64, Error> {
+        Ok(f64::from_bits(self.u64(what)?))
+    }
+    fn flag(&mut self, what: &str) -> Result<bool, Error> {
+        let at = self.pos;
+        match self.u8(what)? {
+            0 => Ok(false),
+            1 => Ok(true),
+            b => Err(Error::Input(format!(
+                "{}: {what} at byte {at}: option flag {b}, allowed 0 or 1",
+                self.source
+            ))),
+        }
+    }
+    fn opt_f64(&mut self, what: &str) -> Result<Option<f64>, Error> {
+        Ok(if self.flag(what)? { Some(self.f64(what)?) } else { None })
+    }
+    fn vec(&mut self, what: &str) -> Result<Vec<f64>, Error> {
+        let n = self.usize(what)?;
+        if n > (self.bytes.len() - self.pos) / 8 {
+            return Err(Error::Input(format!(
+                "{}: truncated snapshot: {what} of {n} values at byte {}",
+                self.source, self.pos
+            )));
+        }
+        (0..n).map(|_| self.f64(what)).collect()
+    }
+}
+
+impl Snapshot {
+    /// Step number of the snapshot.
+    pub fn step(&self) -> usize {
+        self.step
+    }
+
+    /// Time of the snapshot \[s\].
+    pub fn time(&self) -> f64 {
+        self.state.t
+    }
+
+    /// The model fingerprint it was made with (see [`crate::simulation::Model::fingerprint`]).
+    pub fn fingerprint(&self) -> u64 {
+        self.fingerprint
+    }
+
+    /// The snapshot as bytes (format in the module doc).
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut w = Writer(Vec::new());
+        w.0.extend_from_slice(MAGIC);
+        w.u32(SNAPSHOT_VERSION);
+        w.u64(self.fingerprint);
+        w.f64(self.state.t);
+        w.vec(&self.state.u);
+        w.vec(&self.state.v);
+        w.vec(&self.state.a);
+        w.f64(self.lambda[0]);
+        w.f64(self.lambda[1]);
+        w.usize(self.step);
+        w.usize(self.total_iterations);
+        w.usize(self.total_factorizations);
+        w.usize(self.cutbacks);
+        w.f64(self.torque_work);
+        w.f64(self.theta);
+        match self.previous_alpha {
+            Some((t, a)) => {
+                w.u8(1);
+                w.f64(t);
+                w.f64(a);
+            }
+            None => w.u8(0),
+        }
+        w.f64(self.clock.base);
+        w.f64(self.clock.dt);
+        w.u64(self.clock.count);
+        w.usize(self.last_iterations);
+        w.opt_f64(self.torque_reference);
+        w.opt_f64(self.held_torque);
+        match &self.factor {
+            Some(f) => {
+                w.u8(1);
+                w.f64(f.frame.0);
+                w.f64(f.frame.1);
+                w.vec(&f.values);
+            }
+            None => w.u8(0),
+        }
+        let sum = fnv1a(&w.0);
+        w.u64(sum);
+        w.0
+    }
+
+    /// Reads bytes written by [`Snapshot::to_bytes`]; `source` names them in errors (a file name).
+    /// A wrong magic, another format version, a damaged or truncated file are errors.
+    pub fn from_bytes(bytes: &[u8], source: &str) -> Result<Self, Error> {
+        if bytes.len() < MAGIC.len() + 4 + 8 || &bytes[..MAGIC.len()] != MAGIC {
+            return Err(Error::Input(format!(
+                "{source}: not a pendulum-fem snapshot (it does not start with \"PFEMSNAP\")"
+            )));
+        }
+        let version = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes"));
+        if version != SNAPSHOT_VERSION {
+            return Err(Error::Input(format!(
+                "{source}: snapshot format version {version}; this program reads version {SNAPSHOT_VERSION}"
+            )));
+        }
+        let body = &bytes[..bytes.len() - 8];
+        let stored = u64::from_le_bytes(bytes[bytes.len() - 8..].try_into().expect("8 bytes"));
+        if fnv1a(body) != stored {
+            return Err(Error::Input(format!(
+                "{source}: damaged snapshot (its checksum does not match its {} bytes)",
+                bytes.len()
+            )));
+        }
+        let mut r = Reader {
+            bytes: body,
+            pos: 12,
+            source,
+        };
+        let fingerprint = r.u64("fingerprint")?;
+        let t = r.f64("time")?;
+        let u = r.vec("u")?;
+        let v = r.vec("v")?;
+        let a = r.vec("a")?;
+        let lambda = [r.f64("lambda")?, r.f64("lambda")?];
+        let step = r.usize("step")?;
+        let total_iterations = r.usize("iterations")?;
+        let total_factorizations = r.usize("factorizations")?;
+        let cutbacks = r.usize("cutbacks")?;
+        let torque_work = r.f64("torque work")?;
+        let theta = r.f64("theta")?;
+        let previous_alpha = if r.flag("previous alpha")? {
+            Some((r.f64("previous alpha")?, r.f64("previous alpha")?))
+        } else {
+            None
+        };
+        let clock = Clock {
+            base: r.f64("clock")?,
+            dt: r.f64("clock")?,
+            count: r.u64("clock")?,
+        };
+        let last_iterations = r.usize("last iterations")?;
+        let torque_reference = r.opt_f64("torque reference")?;
+        let held_torque = r.opt_f64("held torque")?;
+        let factor = if r.flag("factorisation")? {
+            let frame = (r.f64("factorisation")?, r.f64("factorisation")?);
+            let values = r.vec("factorisation")?;
+            Some(Arc::new(FactorState { values, frame }))
+        } else {
+            None
+        };
+        if r.pos != body.len() {
+            return Err(Error::Input(format!(
+                "{source}: {} unexpected bytes after the snapshot at byte {}",
+                body.len() - r.pos,
+                r.pos
+            )));
+        }
+        Ok(Self {
+            fingerprint,
+            state: State { t, u, v, a },
+            lambda,
+            step,
+            total_iterations,
+            total_factorizations,
+            cutbacks,
+            torque_work,
+            theta,
+            previous_alpha,
+            clock,
+            last_iterations,
+            torque_reference,
+            held_torque,
+            factor,
+        })
+    }
+}

@@ -1,0 +1,205 @@
+//! The stepping interface of [`Simulation`]: the one way to advance a simulation, used by the CLI
+//! and by programs that drive the pendulum step by step (a controller, a co-simulation master).
+//!
+//! * [`Simulation::step`] advances by any positive `dt` (sub-steps and cut-backs inside, as
+//!   [`Simulation::advance`] describes). Over a run of steps with the same `dt` the time is
+//!   `t_start + n · dt`, computed rather than accumulated, so `n` calls of `step(time.dt)` from the
+//!   start are bit for bit the fixed-step run. Any other `dt` starts a new run at the time
+//!   reached; time is never rounded to a grid. [`Simulation::step_to`] lands exactly on a time.
+//! * **A failed step changes nothing.** When a step fails after its cut-backs, everything that
+//!   determines later steps is put back as it was before the call (fields, multipliers, counters,
+//!   the unwrapping branch of θ, the previous α, the torque's work and its reference angle, the
+//!   held torque, and the solver's reusable factorisation), and the error is returned: calling
+//!   again with a smaller `dt` is the same as having called with it in the first place.
+//! * **Inputs held between steps**: [`Simulation::set_torque`] replaces the `[torque]` profile by a
+//!   value held until it is set again (a zero-order hold: the step uses it from its start to its end).
+//! * **Outputs on request**: [`Simulation::time`], [`Simulation::theta`],
+//!   [`Simulation::angular_rates`], [`Simulation::energies`], [`Simulation::hinge_reaction`],
+//!   [`Simulation::von_mises_max`], [`Simulation::last_newton_iterations`]; the fields
+//!   [`Simulation::displacement`], [`Simulation::velocity`], [`Simulation::acceleration_field`],
+//!   [`Simulation::nodal_stress`]. A step computes none of the stresses; they cost a pass over every
+//!   element node and are made only when asked for.
+
+use super::{Clock, Simulation};
+use crate::constraint::Hinge;
+use crate::post::NodalStress;
+use crate::terms::{Term, TorqueProfile};
+use crate::Error;
+
+/// The energies of the current state \[J\].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Energies {
+    /// Kinetic energy.
+    pub kinetic: f64,
+    /// Strain energy.
+    pub strain: f64,
+    /// Gravitational energy relative to the pivot height.
+    pub gravity: f64,
+    /// `kinetic + strain + gravity`.
+    pub total: f64,
+    /// Work done by the torque since the start (not part of `total`: `total − total(0)` equals it up
+    /// to the integrator's energy error).
+    pub torque_work: f64,
+}
+
+impl Simulation {
+    /// Advances the state by `dt` \[s\] (any finite `dt > 0`) and returns the Newton iterations of
+    /// the step. On failure the state is exactly as before the call (see the module doc) and the
+    /// error ([`Error::TimeStep`]) is returned; `dt` out of range is [`Error::Input`].
+    pub fn step(&mut self, dt: f64) -> Result<usize, Error> {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(Error::Input(format!(
+                "step(dt = {dt} s) at t = {} s: allowed dt > 0 and finite",
+                self.state.t
+            )));
+        }
+        let clock = self.clock.after(dt);
+        self.step_with(dt, clock)
+    }
+
+    /// Advances the state by one step to exactly `t_end` \[s\] (after the current time), for a last
+    /// step that lands on an end time; otherwise as [`Simulation::step`].
+    pub fn step_to(&mut self, t_end: f64) -> Result<usize, Error> {
+        let t0 = self.state.t;
+        let dt = t_end - t0;
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(Error::Input(format!(
+                "step_to(t_end = {t_end} s) from t = {t0} s: the end must lie after the current time"
+            )));
+        }
+        self.step_with(dt, Clock::at(t_end))
+    }
+
+    fn step_with(&mut self, dt: f64, clock: Clock) -> Result<usize, Error> {
+        let before = self.snapshot();
+        match self.advance_over(dt) {
+            Ok(its) => {
+                self.clock = clock;
+                self.state.t = clock.time();
+                self.theta = self.unwrap.next(self.model.projection.angle(&self.state.u));
+                self.last_iterations = its;
+                Ok(its)
+            }
+            Err(e) => {
+                self.apply(&before);
+                Err(e)
+            }
+        }
+    }
+
+    /// Holds the actuator torque at `value` \[N m\] from now on, replacing the `[torque]` profile
+    /// (a co-simulation input; it stays until set again). The torque term must exist: a model built
+    /// with `torque.profile = "none"` has none (so that the default run is unchanged) and this is an
+    /// error naming the key; declare a torque input with `profile = "constant"`, `amplitude = 0`.
+    /// Before the first step the initial state is set up again with the held torque (its rigid
+    /// acceleration `α₀` and the elastic equilibrium include it), exactly as with a configured
+    /// constant torque of that value.
+    pub fn set_torque(&mut self, value: f64) -> Result<(), Error> {
+        if !value.is_finite() {
+            return Err(Error::Input(format!(
+                "set_torque({value} N m): allowed a finite torque"
+            )));
+        }
+        if self.model.torque.is_none() {
+            return Err(Error::Config(
+                "set_torque: this model has no torque term (torque.profile = \"none\"); set torque.profile = \
+                 \"constant\" with torque.amplitude = 0 to declare a torque input"
+                    .into(),
+            ));
+        }
+        let before = (self.step == 0).then(|| self.snapshot());
+        self.apply_torque_input(Some(value));
+        self.rates = None;
+        if let Some(before) = before {
+            // an input set before the first step is part of the initial state (its rigid
+            // acceleration and elastic equilibrium), as a configured torque would be; if that
+            // equilibrium fails, nothing has changed
+            if let Err(e) = self.initialize() {
+                self.apply(&before);
+                return Err(e);
+            }
+        }
+        Ok(())
+    }
+
+    /// The torque held by [`Simulation::set_torque`] \[N m\], `None` while the profile acts.
+    pub fn held_torque(&self) -> Option<f64> {
+        self.held_torque
+    }
+
+    /// Makes the torque of the model follow `held` (a value) or the configured profile (`None`).
+    pub(super) fn apply_torque_input(&mut self, held: Option<f64>) {
+        self.held_torque = held;
+        if let Some(torque) = self.model.torque.as_mut() {
+            torque.profile = match (held, &self.configured_torque) {
+                (Some(amplitude), _) => TorqueProfile::Constant { amplitude },
+                (None, Some(profile)) => profile.clone(),
+                (None, None) => TorqueProfile::Zero,
+            };
+        }
+    }
+
+    /// Time of the current state \[s\].
+    pub fn time(&self) -> f64 {
+        self.state.t
+    }
+
+    /// Proxy angle of the current state, unwrapped (continuous past ±π) \[rad\].
+    pub fn theta(&self) -> f64 {
+        self.theta
+    }
+
+    /// Newton iterations (linear solves) of the last step, sub-steps and cut-backs included (0
+    /// before the first step).
+    pub fn last_newton_iterations(&self) -> usize {
+        self.last_iterations
+    }
+
+    /// Kinetic, strain and gravitational energy of the current state and the torque's work \[J\].
+    pub fn energies(&mut self) -> Energies {
+        let kinetic = self.kinematics().kinetic;
+        let (s, m) = (&self.state, &self.model);
+        let strain = m.elastic.energy(&s.u, s.t);
+        let gravity = m.gravity.energy(&s.u, s.t);
+        Energies {
+            kinetic,
+            strain,
+            gravity,
+            total: kinetic + strain + gravity,
+            torque_work: self.torque_work,
+        }
+    }
+
+    /// Force of the hinge on the body \[N\].
+    pub fn hinge_reaction(&self) -> [f64; 2] {
+        Hinge::reaction(self.lambda)
+    }
+
+    /// Nodal displacement, interleaved `[u_x, u_y]` per node \[m\].
+    pub fn displacement(&self) -> &[f64] {
+        &self.state.u
+    }
+
+    /// Nodal velocity, interleaved \[m/s\].
+    pub fn velocity(&self) -> &[f64] {
+        &self.state.v
+    }
+
+    /// Nodal Cauchy and von Mises stresses of the current state (computed on this call).
+    pub fn nodal_stress(&mut self) -> NodalStress {
+        self.stress_evaluations += 1;
+        self.model.stress.nodal(&self.model.material, &self.state.u)
+    }
+
+    /// The largest nodal von Mises stress of the current state \[Pa\] (computed on this call).
+    pub fn von_mises_max(&mut self) -> f64 {
+        self.stress_evaluations += 1;
+        self.model.stress.max_von_mises(&self.model.material, &self.state.u)
+    }
+
+    /// How often nodal stresses were computed so far (by [`Simulation::nodal_stress`],
+    /// [`Simulation::von_mises_max`], records and frames; never by a step).
+    pub fn stress_evaluations(&self) -> usize {
+        self.stress_evaluations
+    }
+}

@@ -1,0 +1,171 @@
+//! `run --checkpoint-every N` and `run --restart DIR`: a run killed at any moment and restarted
+//! from its last checkpoint, or a finished run continued to a later `time.end`, writes exactly the
+//! results of an uninterrupted run.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pendulum-fem-checkpoint-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Few outputs: results.csv and every 50th ParaView frame.
+const LEAN: [&str; 8] = [
+    "--set",
+    "output.plots=false",
+    "--set",
+    "output.animation=false",
+    "--set",
+    "output.viewer=false",
+    "--set",
+    "output.paraview_every=50",
+];
+
+fn run(args: &[&str], out: &Path) -> Output {
+    let o = bin()
+        .arg("run")
+        .arg("--quiet")
+        .args(LEAN)
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "run {args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o
+}
+
+fn restart(args: &[&str], dir: &Path) -> Output {
+    bin()
+        .args(["run", "--quiet"])
+        .args(args)
+        .arg("--restart")
+        .arg(dir)
+        .output()
+        .unwrap()
+}
+
+fn read(path: PathBuf) -> Vec<u8> {
+    std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn rows(dir: &Path) -> usize {
+    std::fs::read_to_string(dir.join("results.csv"))
+        .map(|t| t.lines().count().saturating_sub(1))
+        .unwrap_or(0)
+}
+
+#[test]
+fn a_run_killed_with_sigkill_and_restarted_writes_the_uninterrupted_results_byte_for_byte() {
+    let dir = scratch("kill");
+    let (whole, killed) = (dir.join("whole"), dir.join("killed"));
+    run(&["--set", "time.end=6"], &whole);
+    let mut child = bin()
+        .args(["run", "--quiet", "--checkpoint-every", "10", "--set", "time.end=6"])
+        .args(LEAN)
+        .arg("--out")
+        .arg(&killed)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
+    while rows(&killed) < 300 {
+        assert!(std::time::Instant::now() < deadline, "fewer than 300 rows after 300 s");
+        assert!(child.try_wait().unwrap().is_none(), "the run ended before the kill");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let kill = Command::new("kill")
+        .args(["-KILL", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    child.wait().unwrap();
+    let at_kill = rows(&killed);
+    eprintln!("killed with {at_kill} rows in results.csv");
+    assert!((300..601).contains(&at_kill), "killed with {at_kill} of 601 rows");
+    let status = std::fs::read_to_string(killed.join("status.json")).unwrap();
+    assert!(status.contains("\"running\""), "a killed run says running: {status}");
+    let o = restart(&[], &killed);
+    assert!(o.status.success(), "restart: {}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        read(killed.join("results.csv")) == read(whole.join("results.csv")),
+        "results.csv differs"
+    );
+    assert!(
+        read(killed.join("pendulum.pvd")) == read(whole.join("pendulum.pvd")),
+        "pendulum.pvd differs"
+    );
+    assert!(read(killed.join("frames/step_00600.vtu")) == read(whole.join("frames/step_00600.vtu")));
+    let status = std::fs::read_to_string(killed.join("status.json")).unwrap();
+    assert!(
+        status.contains("\"ok\"") && status.contains("\"step\": 600"),
+        "{status}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn restarting_a_finished_run_with_a_larger_end_continues_it() {
+    let dir = scratch("continue");
+    let (whole, short) = (dir.join("whole"), dir.join("short"));
+    run(&["--set", "time.end=1"], &whole);
+    run(&["--checkpoint-every", "30", "--set", "time.end=0.5"], &short);
+    assert_eq!(rows(&short), 51);
+    let o = restart(&["--set", "time.end=1"], &short);
+    assert!(o.status.success(), "restart: {}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(rows(&short), 101);
+    assert!(
+        read(short.join("results.csv")) == read(whole.join("results.csv")),
+        "results.csv differs"
+    );
+    assert!(
+        read(short.join("pendulum.pvd")) == read(whole.join("pendulum.pvd")),
+        "pendulum.pvd differs"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_restart_without_a_checkpoint_or_with_another_model_is_a_clear_error() {
+    let dir = scratch("errors");
+    let (plain, with) = (dir.join("plain"), dir.join("with"));
+    run(&["--set", "time.end=0.05"], &plain);
+    let o = restart(&[], &plain);
+    let msg = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && msg.contains("checkpoint.toml") && msg.contains("--checkpoint-every"),
+        "{msg}"
+    );
+    run(&["--checkpoint-every", "2", "--set", "time.end=0.05"], &with);
+    let csv = read(with.join("results.csv"));
+    let o = restart(&["--set", "material.density=7000"], &with);
+    let msg = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && msg.contains("another model"), "{msg}");
+    assert!(
+        read(with.join("results.csv")) == csv,
+        "a refused restart leaves results.csv alone"
+    );
+    let o = bin()
+        .args(["run", "--checkpoint-every", "0", "--out"])
+        .arg(dir.join("zero"))
+        .output()
+        .unwrap();
+    let msg = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && msg.contains("--checkpoint-every 0") && msg.contains(">= 1"),
+        "{msg}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
