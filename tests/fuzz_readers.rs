@@ -1,5 +1,5 @@
 //! Bounded property-based fuzzing of the readers of user files: configuration TOML (and `--set`
-//! overrides), torque tables (CSV) and Gmsh meshes (ASCII and binary). Each reader, fed mutated
+//! overrides), torque tables (CSV), Gmsh meshes (ASCII and binary) and snapshots (checkpoints). Each reader, fed mutated
 //! valid files or arbitrary input, returns a value or an error that names its source, and never
 //! panics. These run 300 cases each in seconds with the suite; a long campaign sets the number of
 //! cases per test with the environment variable `FUZZ_CASES`, e.g.
@@ -13,6 +13,7 @@ use std::sync::OnceLock;
 use pendulum_fem::config::{commented_default, Config};
 use pendulum_fem::io::gmsh::write_msh_to;
 use pendulum_fem::io::gmsh_read::parse_msh;
+use pendulum_fem::simulation::{Simulation, Snapshot};
 use pendulum_fem::terms::TorqueProfile;
 use proptest::prelude::*;
 
@@ -27,6 +28,49 @@ fn valid_msh() -> &'static (Vec<u8>, Vec<u8>) {
         write_msh_to(&mut ascii, &mesh).unwrap();
         (ascii, msh::binary_msh(&mesh))
     })
+}
+
+/// A coarse pendulum's configuration and a snapshot of it after three steps (with a torque, so
+/// that every optional part of the format is present).
+fn valid_snapshot() -> &'static (Config, Vec<u8>) {
+    static SNAP: OnceLock<(Config, Vec<u8>)> = OnceLock::new();
+    SNAP.get_or_init(|| {
+        let mut cfg = Config::default();
+        cfg.mesh.refine = 0.25;
+        cfg.torque.profile = pendulum_fem::config::TorqueProfile::Constant;
+        cfg.torque.amplitude = 0.1;
+        let mut sim = Simulation::from_config(&cfg, pendulum_fem::mesh::generate(&cfg).unwrap()).unwrap();
+        for _ in 0..3 {
+            sim.step(cfg.time.dt).unwrap();
+        }
+        (cfg, sim.snapshot().to_bytes())
+    })
+}
+
+/// 64-bit FNV-1a, the snapshot's checksum (so that a mutation can be given a valid one and reach
+/// the parser behind the checksum).
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// Reads `data` as a snapshot and, when it reads, restores it into a fresh simulation of the model
+/// it was made for: each step either works or is an error (never a panic); read errors name the file.
+fn assert_snapshot(data: &[u8]) {
+    match Snapshot::from_bytes(data, "fuzz.snap") {
+        Err(e) => assert!(
+            e.to_string().contains("fuzz.snap"),
+            "an error that does not name the file: {e}"
+        ),
+        Ok(snapshot) => {
+            let cfg = &valid_snapshot().0;
+            let mut sim = Simulation::from_config(cfg, pendulum_fem::mesh::generate(cfg).unwrap()).unwrap();
+            if let Err(e) = sim.restore(&snapshot) {
+                assert!(!e.to_string().is_empty());
+            }
+        }
+    }
 }
 
 /// An edit of a byte string: overwrite, insert or delete a short run at a position (as fractions).
@@ -116,6 +160,34 @@ proptest! {
         with_header.extend(&data);
         assert_msh(&data);
         assert_msh(&with_header);
+    }
+
+    #[test]
+    fn a_mutated_snapshot_is_read_or_rejected_with_an_error_naming_it(edits in prop::collection::vec(edit(), 1..4)) {
+        assert_snapshot(&apply(&valid_snapshot().1, &edits));
+    }
+
+    #[test]
+    fn a_mutated_snapshot_with_a_valid_checksum_is_read_or_rejected_without_a_panic(
+        edits in prop::collection::vec(edit(), 1..4),
+    ) {
+        // mutate the body, then append the checksum of what is left (past the magic and version
+        // when they survive, into the field parser)
+        let data = &valid_snapshot().1;
+        let mut body = apply(&data[..data.len() - 8], &edits);
+        let sum = fnv1a(&body);
+        body.extend_from_slice(&sum.to_le_bytes());
+        assert_snapshot(&body);
+    }
+
+    #[test]
+    fn arbitrary_bytes_are_no_snapshot(data in prop::collection::vec(any::<u8>(), 0..200)) {
+        let mut with_header = b"PFEMSNAP\x01\x00\x00\x00".to_vec();
+        with_header.extend(&data);
+        let sum = fnv1a(&with_header);
+        with_header.extend_from_slice(&sum.to_le_bytes());
+        assert_snapshot(&data);
+        assert_snapshot(&with_header);
     }
 
     #[test]
