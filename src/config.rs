@@ -808,18 +808,26 @@ fn apply_override(doc: &mut toml::Table, assignment: &str) -> Result<(), Error> 
         Err(_) => toml::Value::String(value.to_string()),
     };
     let parts: Vec<&str> = key.split('.').collect();
-    if parts.len() != 2 || parts.iter().any(|p| p.is_empty()) {
+    if parts.len() < 2 || parts.iter().any(|p| p.is_empty()) {
         return Err(Error::Config(format!(
-            "--set {assignment}: the key must be section.name, e.g. mesh.max_size or time.dt"
+            "--set {assignment}: the key must be section.name (any depth: a.b.c), e.g. mesh.max_size or time.dt"
         )));
     }
-    let section = doc
-        .entry(parts[0].to_string())
-        .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-    let table = section
-        .as_table_mut()
-        .ok_or_else(|| Error::Config(format!("--set {assignment}: `{}` is not a section", parts[0])))?;
-    table.insert(parts[1].to_string(), parsed);
+    // walk (and create) the tables of every part but the last, at any depth
+    let (last, tables) = parts.split_last().expect("two parts at least");
+    let mut table = doc;
+    for (depth, part) in tables.iter().enumerate() {
+        let entry = table
+            .entry(part.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        table = entry.as_table_mut().ok_or_else(|| {
+            Error::Config(format!(
+                "--set {assignment}: `{}` is a value, not a section",
+                parts[..=depth].join(".")
+            ))
+        })?;
+    }
+    table.insert(last.to_string(), parsed);
     Ok(())
 }
 
@@ -893,6 +901,14 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("mesh.max_size"), "{err}");
+        // keys of any depth reach nested tables; one that runs through a value says which
+        let mut doc = toml::Table::new();
+        apply_override(&mut doc, "a.b.c=3").unwrap();
+        assert_eq!(doc["a"]["b"]["c"].as_integer(), Some(3));
+        let err = apply_override(&mut doc, "a.b.c.d=1").unwrap_err().to_string();
+        assert!(err.contains("`a.b.c` is a value"), "{err}");
+        let err = Config::load(None, &["time.dt.x=1".into()]).unwrap_err().to_string();
+        assert!(err.contains("time.dt"), "{err}");
     }
 
     #[test]
