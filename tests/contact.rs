@@ -2,6 +2,8 @@
 //! differences, the discrete-gradient identity through the moment of impact, and nothing when apart.
 //! (Wiring it into a run, the impact resolution and the outputs belong to the contact issue.)
 
+mod common;
+
 use pendulum_fem::assembly::Pattern;
 use pendulum_fem::terms::{RigidWall, StepStart, Term};
 use pendulum_fem::{mesh, Config, Mesh};
@@ -62,32 +64,20 @@ fn the_contact_gradient_and_hessian_match_finite_differences() {
     // the force resultant equals the normal force the term reports
     let fx: f64 = g.iter().step_by(2).sum();
     assert!((fx + term.normal_force(&u)).abs() <= 1e-12 * scale * n as f64);
-    let h = 1e-9; // far below the penetrations (≥ 1e-4 m), so no point switches on or off
+    // a step of 1 nm, far below the penetrations (≥ 1e-4 m), so that no point switches on or off:
+    // central differences of a piecewise quadratic are exact up to the energies' rounding
     let dofs: Vec<usize> = mesh
         .nodes_on("contact_head")
         .iter()
         .flat_map(|&a| [2 * a, 2 * a + 1])
         .collect();
-    for &dof in dofs.iter().step_by(3) {
-        let (mut up, mut um) = (u.clone(), u.clone());
-        up[dof] += h;
-        um[dof] -= h;
-        let fd = (term.energy(&up, 0.0) - term.energy(&um, 0.0)) / (2.0 * h);
-        // central difference of a piecewise quadratic: exact up to rounding of the energies
-        assert!((fd - g[dof]).abs() <= 1e-5 * scale, "g[{dof}] {} vs {fd}", g[dof]);
-        let (mut gp, mut gm) = (vec![0.0; n], vec![0.0; n]);
-        term.add_gradient(&up, 0.0, &mut gp);
-        term.add_gradient(&um, 0.0, &mut gm);
-        let mut col = vec![0.0; n];
-        let mut unit = vec![0.0; n];
-        unit[dof] = 1.0;
-        pattern.sym_matvec(&k, &unit, &mut col);
-        let k_scale = col.iter().fold(0.0f64, |a, b| a.max(b.abs())).max(1.0);
-        for &i in &dofs {
-            let fd = (gp[i] - gm[i]) / (2.0 * h);
-            assert!((fd - col[i]).abs() <= 1e-6 * k_scale, "K[{i},{dof}] {} vs {fd}", col[i]);
-        }
-    }
+    let probe = common::Probe {
+        dofs: &dofs,
+        step: 1e-9,
+        tolerance: 1e-5,
+        hessian_scale: None,
+    };
+    common::check_derivatives(&term, &pattern, &u, &probe, "rigid wall");
 }
 
 #[test]

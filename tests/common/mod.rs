@@ -196,3 +196,64 @@ pub fn hanging_rectangle(w: f64, l: f64, nx: usize, ny: usize) -> Mesh {
         order: 2,
     }
 }
+
+/// How [`check_derivatives`] probes a term.
+pub struct Probe<'a> {
+    /// The degrees of freedom whose gradient entries and Hessian columns are checked.
+    pub dofs: &'a [usize],
+    /// The finite-difference step \[m\].
+    pub step: f64,
+    /// Relative tolerance of the gradient (of its largest entry) and of the Hessian columns.
+    pub tolerance: f64,
+    /// The Hessian's scale for its tolerance \[N/m\]; `None`: each column's largest entry.
+    pub hessian_scale: Option<f64>,
+}
+
+/// Checks a term's fused energy against `energy`, its gradient against central differences of the
+/// energy, and its Hessian columns (through the pattern) against central differences of the
+/// gradient, at `u` and time 0; the errors of central differences are O(step²).
+pub fn check_derivatives(
+    term: &dyn pendulum_fem::terms::Term,
+    pattern: &pendulum_fem::assembly::Pattern,
+    u: &[f64],
+    probe: &Probe,
+    label: &str,
+) {
+    let n = u.len();
+    let (mut g, mut k) = (vec![0.0; n], vec![0.0; pattern.nnz()]);
+    let e = term.assemble(u, 0.0, pattern, &mut g, &mut k);
+    assert!(
+        (e - term.energy(u, 0.0)).abs() <= 1e-12 * e.abs().max(1e-12),
+        "{label}: fused energy differs"
+    );
+    let g_scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let h = probe.step;
+    for &dof in probe.dofs {
+        let (mut up, mut um) = (u.to_vec(), u.to_vec());
+        up[dof] += h;
+        um[dof] -= h;
+        let fd = (term.energy(&up, 0.0) - term.energy(&um, 0.0)) / (2.0 * h);
+        assert!(
+            (fd - g[dof]).abs() <= probe.tolerance * g_scale + 1e-9,
+            "{label}: g[{dof}] = {} vs fd {fd}",
+            g[dof]
+        );
+        let (mut gp, mut gm) = (vec![0.0; n], vec![0.0; n]);
+        term.add_gradient(&up, 0.0, &mut gp);
+        term.add_gradient(&um, 0.0, &mut gm);
+        let (mut col, mut unit) = (vec![0.0; n], vec![0.0; n]);
+        unit[dof] = 1.0;
+        pattern.sym_matvec(&k, &unit, &mut col);
+        let k_scale = probe
+            .hessian_scale
+            .unwrap_or_else(|| col.iter().fold(0.0f64, |a, b| a.max(b.abs())).max(1e-300));
+        for r in 0..n {
+            let fd = (gp[r] - gm[r]) / (2.0 * h);
+            assert!(
+                (fd - col[r]).abs() <= probe.tolerance * k_scale,
+                "{label}: K[{r}][{dof}] = {} vs fd {fd}",
+                col[r]
+            );
+        }
+    }
+}
