@@ -14,10 +14,11 @@
 //! (1/|Γ_rot|) ∫_Γrot u ds = 0     (hinge: two Lagrange multipliers, the reaction force).
 //! ```
 //!
-//! Time is discretised by Newmark's average-acceleration rule written as an incremental potential
-//! (see [`newmark`]); each step is a constrained minimisation solved by Newton's method with a line
-//! search ([`newton`]) over a sparse Cholesky factorisation whose symbolic analysis is done once per
-//! run ([`linsolve`]).
+//! Time is discretised by default by an energy-momentum scheme, the midpoint rule with discrete
+//! gradients that conserves energy and angular momentum at any step ([`energy_momentum`]); each
+//! step is a constrained nonlinear system solved by Newton's method ([`newton`]) over a sparse
+//! Cholesky factorisation whose symbolic analysis is done once per run ([`linsolve`]). The
+//! tutorial's Newmark rule (and HHT-α) remain, written as an incremental potential ([`newmark`]).
 //!
 //! ## Driving a simulation
 //!

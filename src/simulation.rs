@@ -19,10 +19,11 @@
 //! the tutorial's: undeformed, at rest in its own frame (`initial.elastic = "undeformed"` also gives
 //! an undeformed rigid start, for comparisons with codes that start that way).
 //!
-//! **Steps**: each user step `tₙ → tₙ + Δt` minimises the Newmark incremental potential
-//! ([`crate::newmark`]) with Newton ([`crate::newton`]). If Newton fails, the step is split into two
-//! halves, recursively, up to `solver.max_cutbacks` times; then the run stops with an error naming
-//! the step, the time and the last residual ([`Error::TimeStep`]).
+//! **Steps**: each user step `tₙ → tₙ + Δt` solves the energy-momentum system
+//! ([`crate::energy_momentum`], the default) or minimises the Newmark incremental potential
+//! ([`crate::newmark`]; `"trapezoidal"`, `"hht"`) with Newton ([`crate::newton`]). If Newton fails,
+//! the step is split into two halves, recursively, up to `solver.max_cutbacks` times; then the run
+//! stops with an error naming the step, the time and the last residual ([`Error::TimeStep`]).
 //!
 //! **Stepping interface** (`stepper`): [`Simulation::step`] with any `dt`, rollback of a failed
 //! step, the held torque input, outputs on request; snapshots of the complete state
