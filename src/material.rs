@@ -386,11 +386,30 @@ impl Material {
         if J <= 0.0 {
             return ([f64::NAN; 3], f64::NAN);
         }
-        let P = self.first_piola_of(F, &green_strain(F));
-        // (P Fᵀ)_ij = Σ_K P_iK F_jK
-        let s00 = (P[0] * F[0] + P[1] * F[1]) / J;
-        let s11 = (P[2] * F[2] + P[3] * F[3]) / J;
-        let s01 = (P[0] * F[2] + P[1] * F[3]) / J;
+        let [s00, s11, s01] = match self.model {
+            MaterialModel::NeoHookean => {
+                // σ = (μ/J)(F Fᵀ − J^(−k) I), the diagonal as (B_ii − 1) − (J^(−k) − 1) with
+                // B₀₀ − 1 = h₀(2 + h₀) + F₀₁², h₀ = F₀₀ − 1 (likewise B₁₁): no difference of
+                // numbers near 1
+                let c = self.mu / J;
+                let jk_1 = pow1p_minus_1(J - 1.0, -self.lambda / self.mu);
+                let (h0, h3) = (F[0] - 1.0, F[3] - 1.0);
+                [
+                    c * (h0 * (2.0 + h0) + F[1] * F[1] - jk_1),
+                    c * (h3 * (2.0 + h3) + F[2] * F[2] - jk_1),
+                    c * (F[0] * F[2] + F[1] * F[3]),
+                ]
+            }
+            MaterialModel::SaintVenantKirchhoff => {
+                let P = self.first_piola_of(F, &green_strain(F));
+                // (P Fᵀ)_ij = Σ_K P_iK F_jK
+                [
+                    (P[0] * F[0] + P[1] * F[1]) / J,
+                    (P[2] * F[2] + P[3] * F[3]) / J,
+                    (P[0] * F[2] + P[1] * F[3]) / J,
+                ]
+            }
+        };
         let szz = match self.plane {
             Plane::Stress => 0.0,
             Plane::Strain => match self.model {
