@@ -37,9 +37,7 @@ fn quiet_run(mut config: Config, out: PathBuf) -> RunSummary {
         out: Some(out),
         force: true,
         quiet: true,
-        stop: None,
-        checkpoint_every: None,
-        restart: false,
+        ..Default::default()
     };
     run(&opts).unwrap()
 }

@@ -336,11 +336,8 @@ fn default_runs_paraview_frames_are_at_most_a_third_of_the_uncompressed_size() {
     let opts = RunOptions {
         config,
         out: Some(dir.clone()),
-        force: false,
         quiet: true,
-        stop: None,
-        checkpoint_every: None,
-        restart: false,
+        ..Default::default()
     };
     run_job(&opts).unwrap();
     let sizes: Vec<u64> = std::fs::read_dir(dir.join("frames"))

@@ -28,11 +28,8 @@ fn run_into(name: &str, config: Config) -> (Result<RunSummary, pendulum_fem::Err
     let opts = RunOptions {
         config,
         out: Some(dir.clone()),
-        force: false,
         quiet: true,
-        stop: None,
-        checkpoint_every: None,
-        restart: false,
+        ..Default::default()
     };
     (run(&opts), dir)
 }
@@ -154,11 +151,8 @@ fn the_largest_von_mises_of_csv_and_summary_is_the_largest_value_of_the_frames_f
     let opts = RunOptions {
         config: cfg,
         out: Some(dir.clone()),
-        force: false,
         quiet: true,
-        stop: None,
-        checkpoint_every: None,
-        restart: false,
+        ..Default::default()
     };
     let mut largest_shown = 0.0f64;
     let summary = run_with(&opts, dir, |sim, record| {

@@ -42,9 +42,7 @@ pub fn time_default_run(cfg: &Config) -> Result<RunSummary, Error> {
         out: Some(dir.clone()),
         force: true,
         quiet: true,
-        stop: None,
-        checkpoint_every: None,
-        restart: false,
+        ..Default::default()
     };
     let s = run_with(&opts, dir.clone(), |_, _| Ok(()));
     let _ = std::fs::remove_dir_all(&dir);

@@ -14,8 +14,9 @@ use crate::progress::{Progress, ProgressMode};
 use crate::simulation::{Simulation, StepRecord};
 use crate::{mesh, Config, Error};
 
-/// What to run and where to write.
-#[derive(Clone, Debug)]
+/// What to run and where to write. `RunOptions { config, out: Some(dir), ..Default::default() }`
+/// leaves everything else at its default (no force, progress shown, no stop flag, no checkpoints).
+#[derive(Clone, Debug, Default)]
 pub struct RunOptions {
     /// The configuration (already validated).
     pub config: Config,
