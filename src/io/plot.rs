@@ -5,7 +5,8 @@
 //!   the tutorial's matplotlib figure (θ_max = |θ(0)|, the release angle, like the tutorial's
 //!   `theta_vals[0]`; when the run starts at θ = 0, the largest |θ| instead). With an applied
 //!   torque the release angle bounds nothing, so the lines are left out and the torque M(t) is
-//!   drawn instead, on its own axis at the right.
+//!   drawn instead, on its own axis at the right; they are left out too when the body turns over
+//!   (|θ| > 180°, a spin).
 //! - `energy.png`: the kinetic energy and the *changes* since t = 0 of the gravitational and the
 //!   total energy \[J\] (and, with a torque, the work it has done), so every curve lives on the
 //!   scale of the motion: the gravitational energy itself (about −2 J for the default pendulum,
@@ -225,7 +226,9 @@ fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
     };
     let (t0, t1) = time_range(h);
     let torque = h.has_torque() && h.torque.len() == h.time.len();
-    let bounds: &[f64] = if torque { &[] } else { &[theta_max, -theta_max] };
+    // ±θ_max bound a swing; a body that turns over (a spin) has no such bounds
+    let show_bounds = !torque && deg.iter().all(|v| v.abs() <= 180.0);
+    let bounds: &[f64] = if show_bounds { &[theta_max, -theta_max] } else { &[] };
     let (lo, hi) = with_legend_room(range_of(deg.iter().chain(bounds)));
     let (mlo, mhi) = with_legend_room(range_of(h.torque.iter().chain([0.0].iter())));
     let mut chart = ChartBuilder::on(root)
@@ -275,10 +278,10 @@ fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
             .label("applied torque M(t) (right axis)")
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], red.stroke_width(2)));
     }
-    let lines: &[(f64, RGBColor, &str)] = if torque {
-        &[]
-    } else {
+    let lines: &[(f64, RGBColor, &str)] = if show_bounds {
         &[(1.0, RGBColor(214, 39, 40), "+θ_max"), (-1.0, BLACK, "−θ_max")]
+    } else {
+        &[]
     };
     for &(sign, color, name) in lines {
         let y = sign * theta_max;
