@@ -4,62 +4,26 @@
 //! head) swinging on a hinge under gravity, hyperelastic, optionally driven by a torque at the pivot.
 //! It reproduces the NGSolve tutorial "FEM Pendulum: Basics" and its sequels.
 //!
-//! ## The model
+//! This crate is the command line (`pendulum-fem run`, `mesh`, `bench`, …). Its library is the
+//! whole project under one name: the numerical core ([`pendulum_fem_core`], re-exported here at
+//! the root: [`Simulation`], [`Config`], [`Model`], [`Snapshot`], …), the writers and the run
+//! driver ([`io`], from `pendulum-fem-io`) and the subcommands ([`commands`]).
 //!
-//! Total Lagrangian, plane stress (or strain), thickness `t`, reference domain `Ω₀`, displacement
-//! `u(X, t)`, deformation gradient `F = I + ∇₀u`:
+//! The crates of the workspace:
 //!
-//! ```text
-//! ρ t ü = ∇₀·(t P) + ρ t g        in Ω₀,        P = ∂ψ/∂F,
-//! (1/|Γ_rot|) ∫_Γrot u ds = 0     (hinge: two Lagrange multipliers, the reaction force).
-//! ```
-//!
-//! Time is discretised by default by an energy-momentum scheme, the midpoint rule with discrete
-//! gradients that conserves energy and angular momentum at any step ([`energy_momentum`]); each
-//! step is a constrained nonlinear system solved by Newton's method ([`newton`]) over a sparse
-//! Cholesky factorisation whose symbolic analysis is done once per run ([`linsolve`]). The
-//! tutorial's Newmark rule (and HHT-α) remain, written as an incremental potential ([`newmark`]).
-//!
-//! ## Driving a simulation
-//!
-//! [`Simulation`] is the stepper that the CLI drives too: [`Simulation::step`] with any positive
-//! `dt` (a failed step changes nothing), the held input [`Simulation::set_torque`], outputs on
-//! request, and [`Simulation::snapshot`] / [`Simulation::restore`] of the complete state
-//! ([`Snapshot`], also as bytes).
-//!
-//! ## Units
-//!
-//! SI throughout: m, kg, s, Pa, N, J, rad.
-//!
-//! ## Pipeline (module map)
-//!
-//! [`config`] → [`geometry`] → [`mesh`] → [`element`], [`quadrature`] → [`material`] → [`fe`] →
-//! [`terms`] + [`constraint`] → [`newton`] over [`linsolve`] → [`newmark`] → [`simulation`] →
-//! [`post`] → [`io`].
+//! | crate | what | depends on |
+//! |---|---|---|
+//! | `pendulum-fem-core` | config, geometry, mesh, elements, materials, terms, Newton, time stepping, the stepper, snapshots | faer, nalgebra, serde |
+//! | `pendulum-fem-io` | writers (CSV, VTU/PVD, Gmsh, plots, GIFs, viewer, status), progress, the run driver | core, plotters, indicatif |
+//! | `pendulum-fem` | the command line | core, io, clap |
 #![warn(missing_docs)]
 
-pub mod commands;
-pub mod config;
-pub mod error;
-pub mod geometry;
-pub mod io;
-pub mod mesh;
-pub mod progress;
+pub use pendulum_fem_core::*;
 
-pub use config::Config;
-pub use error::Error;
-pub use mesh::Mesh;
-pub use simulation::{Energies, Model, Simulation, Snapshot, StepRecord};
-pub mod assembly;
-pub mod constraint;
-pub mod element;
-pub mod energy_momentum;
-pub mod fe;
-pub mod linsolve;
-pub mod material;
-pub mod newmark;
-pub mod newton;
-pub mod post;
-pub mod quadrature;
-pub mod simulation;
-pub mod terms;
+/// The writers, the progress display and the run driver (crate `pendulum-fem-io`).
+pub use pendulum_fem_io as io;
+
+/// The progress display (re-exported from [`io`]).
+pub use pendulum_fem_io::progress;
+
+pub mod commands;

@@ -3,4 +3,5 @@
 
 pub mod bench;
 pub mod mesh;
-pub mod run;
+/// `run`: the run driver, in `pendulum-fem-io` (used by the Python package and the sweeps too).
+pub use pendulum_fem_io::run;

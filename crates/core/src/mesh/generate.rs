@@ -47,10 +47,10 @@ pub struct MeshStats {
 }
 
 /// Meshes the pendulum described by `cfg`, or reads `mesh.file` when it is set
-/// ([`crate::io::gmsh_read`]).
+/// ([`crate::mesh::gmsh_read`]).
 pub fn generate(cfg: &Config) -> Result<Mesh, Error> {
     if let Some(file) = &cfg.mesh.file {
-        return crate::io::gmsh_read::read_msh(file).map_err(|e| match e {
+        return crate::mesh::gmsh_read::read_msh(file).map_err(|e| match e {
             Error::Input(m) => Error::Mesh(format!("mesh.file: {m}")),
             other => other,
         });

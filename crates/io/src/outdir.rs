@@ -24,8 +24,8 @@ pub const LATEST: &str = "latest";
 /// Files a run may write at the top of its folder (besides `frames/`).
 pub const RUN_FILES: [&str; 10] = [
     "results.csv",
-    crate::commands::run::CHECKPOINT_SNAP,
-    crate::commands::run::CHECKPOINT_TOML,
+    crate::run::CHECKPOINT_SNAP,
+    crate::run::CHECKPOINT_TOML,
     super::status::STATUS_JSON,
     "theta.png",
     "energy.png",

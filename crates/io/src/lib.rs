@@ -1,15 +1,27 @@
-//! Writers and readers: VTU/PVD for ParaView, Gmsh `.msh` (written and read), CSV, plots, animations,
-//! the HTML viewer, the run status.
+//! # pendulum-fem-io
+//!
+//! What observes a [`Simulation`](pendulum_fem_core::Simulation): the writers (VTU/PVD/VTM for
+//! ParaView, Gmsh `.msh`, CSV, plots, animations, the HTML viewer, the run status), the progress
+//! display and the run driver ([`run`]) that steps a simulation and records it. The numerical core
+//! is `pendulum-fem-core`; the command line is `pendulum-fem`.
+#![warn(missing_docs)]
+
+// The core's modules under the names the writers have always used (`crate::Mesh`, `crate::config`).
+/// The Gmsh reader lives in the core (the mesh generation reads `mesh.file`); re-exported beside the writer.
+pub use pendulum_fem_core::mesh::gmsh_read;
+pub use pendulum_fem_core::simulation::Frame;
+pub(crate) use pendulum_fem_core::{config, mesh, simulation, Config, Error, Mesh};
 
 pub mod anim;
 pub mod csv;
 mod font;
 pub mod gmsh;
-pub mod gmsh_read;
 pub mod outdir;
 pub mod plot;
+pub mod progress;
 pub mod pvd;
 mod raster;
+pub mod run;
 pub mod status;
 pub mod viewer;
 pub mod vtm;
@@ -60,28 +72,6 @@ pub struct Field<'a> {
     pub name: &'a str,
     /// Values.
     pub data: FieldData<'a>,
-}
-
-/// The state of the pendulum at one written time, with everything the frame writers need.
-/// All arrays are per mesh node (vertices and mid-edge nodes).
-#[derive(Clone, Copy, Debug)]
-pub struct Frame<'a> {
-    /// Step number (0 is the initial state).
-    pub step: usize,
-    /// Time \[s\].
-    pub time: f64,
-    /// Rigid-body proxy angle \[rad\] (unwrapped).
-    pub theta: f64,
-    /// Displacement \[m\].
-    pub displacement: &'a [[f64; 2]],
-    /// Velocity \[m/s\].
-    pub velocity: &'a [[f64; 2]],
-    /// Acceleration \[m/s²\].
-    pub acceleration: &'a [[f64; 2]],
-    /// Plane-stress von Mises stress \[Pa\].
-    pub von_mises: &'a [f64],
-    /// Cauchy stress `[σxx, σyy, σxy]` \[Pa\].
-    pub cauchy: &'a [[f64; 3]],
 }
 
 /// Standard base64 (RFC 4648, with padding).

@@ -17,6 +17,7 @@
 
 pub mod bench;
 pub mod generate;
+pub mod gmsh_read;
 mod measure;
 mod refine;
 pub mod size;

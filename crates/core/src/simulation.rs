@@ -35,7 +35,6 @@ use crate::constraint::Hinge;
 use crate::energy_momentum::EnergyMomentum;
 use crate::error::NewtonError;
 use crate::fe::FeCache;
-use crate::io::Frame;
 use crate::linsolve::Cholesky;
 use crate::material::Material;
 use crate::newmark::{Newmark, State};
@@ -281,6 +280,28 @@ impl StepRecord {
     /// CSV header, in this order.
     pub const HEADER: &'static str = "time_s,theta_rad,omega_rad_s,alpha_rad_s2,kinetic_J,strain_J,gravity_J,total_J,\
 hinge_fx_N,hinge_fy_N,von_mises_max_Pa,newton_iterations,torque_Nm,torque_work_J,angular_momentum_kg_m2_s";
+}
+
+/// The state of the pendulum at one written time, with everything the frame writers need.
+/// All arrays are per mesh node (vertices and mid-edge nodes).
+#[derive(Clone, Copy, Debug)]
+pub struct Frame<'a> {
+    /// Step number (0 is the initial state).
+    pub step: usize,
+    /// Time \[s\].
+    pub time: f64,
+    /// Rigid-body proxy angle \[rad\] (unwrapped).
+    pub theta: f64,
+    /// Displacement \[m\].
+    pub displacement: &'a [[f64; 2]],
+    /// Velocity \[m/s\].
+    pub velocity: &'a [[f64; 2]],
+    /// Acceleration \[m/s²\].
+    pub acceleration: &'a [[f64; 2]],
+    /// Plane-stress von Mises stress \[Pa\].
+    pub von_mises: &'a [f64],
+    /// Cauchy stress `[σxx, σyy, σxy]` \[Pa\].
+    pub cauchy: &'a [[f64; 3]],
 }
 
 /// Nodal fields of the current state, owned, for the frame writers.

@@ -7,12 +7,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::io::csv::CsvWriter;
-use crate::io::{prepare_output_dir, FrameWriters};
-use crate::post::PeriodEstimator;
+use crate::csv::CsvWriter;
 use crate::progress::{Progress, ProgressMode};
 use crate::simulation::{Simulation, StepRecord};
 use crate::{mesh, Config, Error};
+use crate::{prepare_output_dir, FrameWriters};
+use pendulum_fem_core::post::PeriodEstimator;
 
 /// What to run and where to write. `RunOptions { config, out: Some(dir), ..Default::default() }`
 /// leaves everything else at its default (no force, progress shown, no stop flag, no checkpoints).
@@ -37,7 +37,7 @@ pub struct RunOptions {
     pub restart: bool,
 }
 
-/// The latest snapshot of a run with checkpoints ([`crate::Snapshot::to_bytes`]).
+/// The latest snapshot of a run with checkpoints ([`pendulum_fem_core::Snapshot::to_bytes`]).
 pub const CHECKPOINT_SNAP: &str = "checkpoint.snap";
 /// The configuration of a run with checkpoints, read by `run --restart`.
 pub const CHECKPOINT_TOML: &str = "checkpoint.toml";
@@ -95,7 +95,7 @@ pub struct RunSummary {
     /// viewer (included in `seconds_steps` and `seconds_total`) \[s\].
     pub seconds_outputs: f64,
     /// Solver timings.
-    pub timings: crate::newton::Timings,
+    pub timings: pendulum_fem_core::newton::Timings,
 }
 
 /// The values of a record in CSV column order.
@@ -146,7 +146,7 @@ pub fn run(opts: &RunOptions) -> Result<RunSummary, Error> {
         }
         // refuse another model before anything in the folder is touched
         let bytes = std::fs::read(&snap).map_err(|e| Error::io(&snap, e))?;
-        let snapshot = crate::Snapshot::from_bytes(&bytes, &snap.display().to_string())?;
+        let snapshot = pendulum_fem_core::Snapshot::from_bytes(&bytes, &snap.display().to_string())?;
         let model = crate::simulation::fingerprint(&opts.config, &mesh::generate(&opts.config)?);
         if snapshot.fingerprint() != model {
             return Err(Error::Input(format!(
@@ -168,7 +168,7 @@ pub fn run(opts: &RunOptions) -> Result<RunSummary, Error> {
 fn write_checkpoint(dir: &std::path::Path, sim: &Simulation) -> Result<(), Error> {
     let path = dir.join(CHECKPOINT_SNAP);
     let bytes = sim.snapshot().to_bytes();
-    crate::io::vtu::write_atomically(&path, |w| w.write_all(&bytes))
+    crate::vtu::write_atomically(&path, |w| w.write_all(&bytes))
 }
 
 /// Writes the configuration of a run with checkpoints to `dir/checkpoint.toml` (file paths made
@@ -182,7 +182,7 @@ fn write_checkpoint_config(dir: &std::path::Path, cfg: &Config) -> Result<(), Er
     }
     let text = toml::to_string(&cfg).map_err(|e| Error::Input(format!("{CHECKPOINT_TOML}: {e}")))?;
     let path = dir.join(CHECKPOINT_TOML);
-    crate::io::vtu::write_atomically(&path, |w| w.write_all(text.as_bytes()))
+    crate::vtu::write_atomically(&path, |w| w.write_all(text.as_bytes()))
 }
 
 /// The records before a restarted run's checkpoint and the `(step, time)` of every row up to and
@@ -195,7 +195,7 @@ type Resumed = (Vec<StepRecord>, Vec<(usize, f64)>);
 fn resume(dir: &std::path::Path, sim: &mut Simulation) -> Result<Resumed, Error> {
     let snap_path = dir.join(CHECKPOINT_SNAP);
     let bytes = std::fs::read(&snap_path).map_err(|e| Error::io(&snap_path, e))?;
-    let snap = crate::Snapshot::from_bytes(&bytes, &snap_path.display().to_string())?;
+    let snap = pendulum_fem_core::Snapshot::from_bytes(&bytes, &snap_path.display().to_string())?;
     sim.restore(&snap)
         .map_err(|e| Error::Input(format!("{}: {e}", snap_path.display())))?;
     let k = snap.step();
@@ -340,15 +340,15 @@ pub fn run_with_outputs(
     frames: bool,
     observe: impl FnMut(&Simulation, &StepRecord) -> Result<(), Error>,
 ) -> Result<RunSummary, Error> {
-    let status_path = out_dir.join(crate::io::status::STATUS_JSON);
+    let status_path = out_dir.join(crate::status::STATUS_JSON);
     let end_time = opts.config.time.end;
-    crate::io::status::RunStatus::running(end_time).write(&status_path)?;
+    crate::status::RunStatus::running(end_time).write(&status_path)?;
     let mut reached = None;
     let result = run_steps(opts, out_dir, frames, observe, &mut reached);
     let status = match &result {
-        Ok(s) if s.end == RunEnd::Interrupted => crate::io::status::RunStatus::interrupted(end_time, reached),
-        Ok(_) => crate::io::status::RunStatus::ok(end_time, reached),
-        Err(e) => crate::io::status::RunStatus::failed(end_time, reached, e),
+        Ok(s) if s.end == RunEnd::Interrupted => crate::status::RunStatus::interrupted(end_time, reached),
+        Ok(_) => crate::status::RunStatus::ok(end_time, reached),
+        Err(e) => crate::status::RunStatus::failed(end_time, reached, e),
     };
     // A run that failed reports its own error, not a failure to write the status.
     let written = status.write(&status_path);
@@ -660,7 +660,7 @@ pub fn output_size_warning(cfg: &crate::Config, mesh: &crate::Mesh) -> Option<St
     let steps = StepPlan::of(&cfg.time).steps();
     let stride = cfg.output.paraview_stride();
     let frames = (steps / stride + 2) as u64;
-    let per_frame = crate::io::pvd::estimated_frame_bytes(mesh);
+    let per_frame = crate::pvd::estimated_frame_bytes(mesh);
     let total = frames * per_frame;
     (total > LARGE_OUTPUT_BYTES).then(|| {
         let suggested = (total / (LARGE_OUTPUT_BYTES / 2)).max(2) * stride as u64;
@@ -682,7 +682,7 @@ struct FrameWriter {
     sender: Option<std::sync::mpsc::SyncSender<FrameMessage>>,
     handle: Option<std::thread::JoinHandle<Result<FrameWriters, Error>>>,
     /// The thinning of the writers (they live on the thread).
-    wants: crate::io::writers::Thinning,
+    wants: crate::writers::Thinning,
 }
 
 /// What the run sends to the frame writer thread.

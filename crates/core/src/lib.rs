@@ -1,0 +1,70 @@
+//! # pendulum-fem-core
+//!
+//! The numerical core of pendulum-fem: configuration, geometry, mesh, elements, materials, energy
+//! terms, Newton, time stepping and the [`Simulation`] stepper. No command line, plotting or
+//! progress-bar dependencies: the output writers and the run driver are in `pendulum-fem-io`, the
+//! command line in `pendulum-fem`.
+//!
+//! ## What it simulates
+//!
+//!
+//! A finite-element simulator of a deformable pendulum: a thin steel plate (a rod with a ring-shaped
+//! head) swinging on a hinge under gravity, hyperelastic, optionally driven by a torque at the pivot.
+//! It reproduces the NGSolve tutorial "FEM Pendulum: Basics" and its sequels.
+//!
+//! ## The model
+//!
+//! Total Lagrangian, plane stress (or strain), thickness `t`, reference domain `Ω₀`, displacement
+//! `u(X, t)`, deformation gradient `F = I + ∇₀u`:
+//!
+//! ```text
+//! ρ t ü = ∇₀·(t P) + ρ t g        in Ω₀,        P = ∂ψ/∂F,
+//! (1/|Γ_rot|) ∫_Γrot u ds = 0     (hinge: two Lagrange multipliers, the reaction force).
+//! ```
+//!
+//! Time is discretised by default by an energy-momentum scheme, the midpoint rule with discrete
+//! gradients that conserves energy and angular momentum at any step ([`energy_momentum`]); each
+//! step is a constrained nonlinear system solved by Newton's method ([`newton`]) over a sparse
+//! Cholesky factorisation whose symbolic analysis is done once per run ([`linsolve`]). The
+//! tutorial's Newmark rule (and HHT-α) remain, written as an incremental potential ([`newmark`]).
+//!
+//! ## Driving a simulation
+//!
+//! [`Simulation`] is the stepper that the CLI drives too: [`Simulation::step`] with any positive
+//! `dt` (a failed step changes nothing), the held input [`Simulation::set_torque`], outputs on
+//! request, and [`Simulation::snapshot`] / [`Simulation::restore`] of the complete state
+//! ([`Snapshot`], also as bytes).
+//!
+//! ## Units
+//!
+//! SI throughout: m, kg, s, Pa, N, J, rad.
+//!
+//! ## Pipeline (module map)
+//!
+//! [`config`] → [`geometry`] → [`mesh`] → [`element`], [`quadrature`] → [`material`] → [`fe`] →
+//! [`terms`] + [`constraint`] → [`newton`] over [`linsolve`] → [`newmark`] → [`simulation`] →
+//! [`post`]; the writers (`pendulum-fem-io`) observe the stepper.
+#![warn(missing_docs)]
+
+pub mod config;
+pub mod error;
+pub mod geometry;
+pub mod mesh;
+
+pub use config::Config;
+pub use error::Error;
+pub use mesh::Mesh;
+pub use simulation::{Energies, Model, Simulation, Snapshot, StepRecord};
+pub mod assembly;
+pub mod constraint;
+pub mod element;
+pub mod energy_momentum;
+pub mod fe;
+pub mod linsolve;
+pub mod material;
+pub mod newmark;
+pub mod newton;
+pub mod post;
+pub mod quadrature;
+pub mod simulation;
+pub mod terms;
