@@ -5,7 +5,7 @@
 mod common;
 
 use pendulum_fem::assembly::Pattern;
-use pendulum_fem::terms::{RigidWall, StepStart, Term};
+use pendulum_fem::terms::{RigidWall, StepContext, StepStart, Term};
 use pendulum_fem::{mesh, Config, Mesh};
 
 fn tutorial_mesh() -> Mesh {
@@ -40,7 +40,7 @@ fn apart_the_wall_has_no_energy_no_force_and_no_stiffness() {
     let u = shifted(&mesh, 0.0, 1.0);
     let pattern = Pattern::new(&mesh, &[]);
     let (mut g, mut k) = (vec![0.0; u.len()], vec![0.0; pattern.nnz()]);
-    let e = term.assemble(&u, 0.0, &pattern, &mut g, &mut k);
+    let e = term.assemble(&u, &StepContext::at(&u, 0.0, 0.0, None), &pattern, &mut g, &mut k);
     assert_eq!(e, 0.0);
     assert!(g.iter().chain(&k).all(|x| *x == 0.0));
     assert!(
@@ -58,7 +58,7 @@ fn the_contact_gradient_and_hessian_match_finite_differences() {
     let pattern = Pattern::new(&mesh, &[]);
     let n = u.len();
     let (mut g, mut k) = (vec![0.0; n], vec![0.0; pattern.nnz()]);
-    term.assemble(&u, 0.0, &pattern, &mut g, &mut k);
+    term.assemble(&u, &StepContext::at(&u, 0.0, 0.0, None), &pattern, &mut g, &mut k);
     let scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
     assert!(scale > 0.0, "the head is pressed into the wall");
     // the force resultant equals the normal force the term reports
@@ -98,10 +98,21 @@ fn through_an_impact_the_discrete_work_is_the_change_of_contact_energy() {
                 dissipation: 0.0,
             };
             let mut g = vec![0.0; u0.len()];
-            term.add_discrete_gradient(&start, &u1, 0.01, 1.0, &mut g);
+            let cx = StepContext {
+                t: 0.01,
+                dt: 0.01,
+                u0: &u0,
+                theta0: 0.0,
+                torque: None,
+            };
+            term.add_discrete_gradient(&start, &u1, &cx, 1.0, &mut g);
             let work: f64 = g.iter().zip(u1.iter().zip(&u0)).map(|(f, (a, b))| f * (a - b)).sum();
-            let change = term.energy(&u1, 0.01) - term.energy(&u0, 0.0);
-            let scale = term.energy(&u1, 0.0).max(term.energy(&u0, 0.0)).max(1e-30);
+            let change = term.energy(&u1, &StepContext::at(&u1, 0.01, 0.0, None))
+                - term.energy(&u0, &StepContext::at(&u0, 0.0, 0.0, None));
+            let scale = term
+                .energy(&u1, &StepContext::at(&u1, 0.0, 0.0, None))
+                .max(term.energy(&u0, &StepContext::at(&u0, 0.0, 0.0, None)))
+                .max(1e-30);
             assert!(
                 (work - change).abs() <= 1e-12 * scale,
                 "k = {stiffness}, step {k}: work {work:e} vs change {change:e}"

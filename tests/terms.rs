@@ -9,7 +9,7 @@ use pendulum_fem::fe::FeCache;
 use pendulum_fem::material::Material;
 use pendulum_fem::quadrature::TriangleRule;
 use pendulum_fem::terms::inertia::MassMatrix;
-use pendulum_fem::terms::{Elastic, Gravity, Inertia, Term};
+use pendulum_fem::terms::{Elastic, Gravity, Inertia, StepContext, Term};
 
 fn soft_material(model: MaterialModel) -> Material {
     // soft, so that a finite difference of a few micrometres gives well-resolved force changes
@@ -110,7 +110,7 @@ fn affine_displacement_passes_the_patch_test() {
             })
             .collect();
         let mut g = vec![0.0; u.len()];
-        elastic.add_gradient(&u, 0.0, &mut g);
+        elastic.add_gradient(&u, &StepContext::at(&u, 0.0, 0.0, None), &mut g);
         let boundary: std::collections::HashSet<usize> = mesh.boundary_edges.iter().flat_map(|e| e.nodes).collect();
         let scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         assert!(scale > 0.0);
@@ -145,9 +145,9 @@ fn rigid_rotation_has_zero_elastic_energy_and_force() {
         .flat_map(|p| [c * p[0] - s * p[1] - p[0], s * p[0] + c * p[1] - p[1]])
         .collect();
     // steel: rounding of F = R gives ψ ~ μ ε² per m³; both stay at the rounding level
-    assert!(elastic.energy(&u, 0.0).abs() < 1e-9);
+    assert!(elastic.energy(&u, &StepContext::at(&u, 0.0, 0.0, None)).abs() < 1e-9);
     let mut g = vec![0.0; u.len()];
-    elastic.add_gradient(&u, 0.0, &mut g);
+    elastic.add_gradient(&u, &StepContext::at(&u, 0.0, 0.0, None), &mut g);
     assert!(
         g.iter().all(|x| x.abs() < 1e-3),
         "max force {}",

@@ -8,7 +8,7 @@ mod common;
 use pendulum_fem::assembly::Pattern;
 use pendulum_fem::config::{self, TorqueProfile as Kind};
 use pendulum_fem::simulation::{Simulation, StepRecord, HINGE_BOUNDARY};
-use pendulum_fem::terms::{Term, Torque, TorqueMode, TorqueProfile};
+use pendulum_fem::terms::{StepContext, Term, Torque, TorqueMode, TorqueProfile};
 use pendulum_fem::{mesh, Config, Error, Mesh};
 
 /// Exact rigid values of the tutorial pendulum (shared/reference/README.md).
@@ -36,16 +36,15 @@ fn rotated(mesh: &Mesh, phi: f64, deform: &[f64]) -> Vec<f64> {
 }
 
 fn torque_on(mesh: &Mesh, mode: TorqueMode, amplitude: f64) -> Torque {
-    Torque::new(mesh, HINGE_BOUNDARY, TorqueProfile::Constant { amplitude }, mode, 0.0).unwrap()
+    Torque::new(mesh, HINGE_BOUNDARY, TorqueProfile::Constant { amplitude }, mode).unwrap()
 }
 
 /// The hinge edge's degrees of freedom, a step of 10 nm, 1e-6 relative; the Hessian's scale is
 /// the force per metre of the edge's size (its entries are forces over 0.015 m).
 fn check_derivatives(term: &Torque, mesh: &Mesh, u: &[f64], label: &str) {
     let pattern = Pattern::new(mesh, &term.hessian_entries());
-    term.begin_step(u, 0.0);
     let mut g = vec![0.0; u.len()];
-    term.add_gradient(u, 0.0, &mut g);
+    term.add_gradient(u, &StepContext::at(u, 0.0, 0.0, None), &mut g);
     let g_scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
     let probe = common::Probe {
         dofs: &term.dofs,
@@ -85,7 +84,7 @@ fn follower_hessian_entries_are_written_even_when_the_torque_is_zero() {
     let pattern = Pattern::new(&mesh, &entries);
     let mut k = vec![0.0; pattern.nnz()];
     let u = rotated(&mesh, 0.3, &vec![0.0; 2 * mesh.num_nodes()]);
-    term.add_hessian(&u, 0.0, &pattern, &mut k); // must not panic on a missing entry
+    term.add_hessian(&u, &StepContext::at(&u, 0.0, 0.0, None), &pattern, &mut k); // must not panic on a missing entry
     assert!(k.iter().all(|v| *v == 0.0));
 }
 
@@ -97,7 +96,7 @@ fn the_generalised_force_has_zero_net_force() {
         for phi in [0.0, 1.2, 3.5] {
             let u = rotated(&mesh, phi, &wiggle(2 * mesh.num_nodes(), 1e-3));
             let mut g = vec![0.0; u.len()];
-            term.add_gradient(&u, 0.0, &mut g);
+            term.add_gradient(&u, &StepContext::at(&u, 0.0, 0.0, None), &mut g);
             let scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
             let fx: f64 = g.iter().step_by(2).sum();
             let fy: f64 = g.iter().skip(1).step_by(2).sum();
@@ -113,7 +112,7 @@ fn the_generalised_force_has_zero_net_force() {
 /// `Torque::moment_about_pivot`, which is checked against it).
 fn moment_of_gradient(mesh: &Mesh, term: &Torque, u: &[f64]) -> f64 {
     let mut g = vec![0.0; u.len()];
-    term.add_gradient(u, 0.0, &mut g);
+    term.add_gradient(u, &StepContext::at(u, 0.0, 0.0, None), &mut g);
     let m: f64 = mesh
         .nodes
         .iter()
@@ -124,7 +123,7 @@ fn moment_of_gradient(mesh: &Mesh, term: &Torque, u: &[f64]) -> f64 {
             -(x[0] * g[2 * n + 1] - x[1] * g[2 * n])
         })
         .sum();
-    assert!((m - term.moment_about_pivot(u, 0.0)).abs() < 1e-12 * m.abs().max(1.0));
+    assert!((m - term.moment_about_pivot(u, term.profile.value(0.0))).abs() < 1e-12 * m.abs().max(1.0));
     m
 }
 
@@ -168,13 +167,14 @@ fn hub_angle_is_exact_for_rigid_rotations_and_continuous_through_180_degrees() {
     let mesh = common::hanging_rectangle(0.015, 0.1, 4, 4);
     let term = torque_on(&mesh, TorqueMode::Follower, 1.0);
     let deform = wiggle(2 * mesh.num_nodes(), 1e-3);
-    let base = term.hub_angle(&deform);
-    // rotating a deformed configuration by φ adds exactly φ
-    let mut prev = base;
+    let base = term.hub_angle(&deform, &StepContext::at(&deform, 0.0, 0.0, None));
+    // rotating a deformed configuration by φ adds exactly φ; each turn of 0.25 rad is a step whose
+    // context starts at the previous configuration with its unwrapped angle
+    let (mut prev, mut prev_x) = (base, deform.clone());
     for k in 1..=40 {
         let phi = 0.25 * k as f64; // up to 10 rad: more than one and a half turns
         let x = rotated(&mesh, phi, &deform);
-        let theta = term.hub_angle(&x);
+        let theta = term.hub_angle(&x, &StepContext::at(&prev_x, 0.0, prev, None));
         assert!(
             (theta - base - phi).abs() < 1e-12,
             "φ = {phi}: θ_hub − θ₀ = {}",
@@ -183,7 +183,7 @@ fn hub_angle_is_exact_for_rigid_rotations_and_continuous_through_180_degrees() {
         // the energy stays continuous (no jump of 2πM at ±π)
         assert!((theta - prev - 0.25).abs() < 1e-12);
         prev = theta;
-        term.begin_step(&x, 0.0);
+        prev_x = x;
     }
 }
 
@@ -318,7 +318,7 @@ fn profile_none_adds_no_term_and_a_torque_adds_one() {
     cfg.torque.amplitude = 0.5;
     let sim = Simulation::from_config(&cfg, mesh).unwrap();
     assert!(sim.model.torque.is_some() && sim.model.extra_terms.is_empty());
-    assert_eq!(sim.model.applied_torque(3.0), 0.5);
+    assert_eq!(sim.model.applied_torque(3.0, None), 0.5);
 }
 
 #[test]
@@ -513,9 +513,9 @@ fn a_fixed_direction_load_delivers_m_cos_theta() {
         .map(|(r, e)| (r.theta - e).abs().to_degrees())
         .fold(0.0, f64::max);
     // the moment actually delivered in the final state
-    let term = Torque::from_config(&sim.model.mesh, HINGE_BOUNDARY, &cfg.torque, 0.0).unwrap();
+    let term = Torque::from_config(&sim.model.mesh, HINGE_BOUNDARY, &cfg.torque).unwrap();
     let last = records.last().unwrap();
-    let moment = term.moment_about_pivot(&sim.state.u, last.time);
+    let moment = term.moment_about_pivot(&sim.state.u, term.profile.value(last.time));
     let peak = records.iter().map(|r| r.theta).fold(0.0, f64::max).to_degrees();
     let balance = energy_balance(&records);
     println!(

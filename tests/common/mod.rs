@@ -211,7 +211,7 @@ pub struct Probe<'a> {
 
 /// Checks a term's fused energy against `energy`, its gradient against central differences of the
 /// energy, and its Hessian columns (through the pattern) against central differences of the
-/// gradient, at `u` and time 0; the errors of central differences are O(step²).
+/// gradient, at `u`, time 0 and θ = 0; the errors of central differences are O(step²).
 pub fn check_derivatives(
     term: &dyn pendulum_fem::terms::Term,
     pattern: &pendulum_fem::assembly::Pattern,
@@ -220,10 +220,12 @@ pub fn check_derivatives(
     label: &str,
 ) {
     let n = u.len();
+    // the state by itself at t = 0, θ = 0 (the branch of angle-valued terms), no held input
+    let cx = pendulum_fem::terms::StepContext::at(u, 0.0, 0.0, None);
     let (mut g, mut k) = (vec![0.0; n], vec![0.0; pattern.nnz()]);
-    let e = term.assemble(u, 0.0, pattern, &mut g, &mut k);
+    let e = term.assemble(u, &cx, pattern, &mut g, &mut k);
     assert!(
-        (e - term.energy(u, 0.0)).abs() <= 1e-12 * e.abs().max(1e-12),
+        (e - term.energy(u, &cx)).abs() <= 1e-12 * e.abs().max(1e-12),
         "{label}: fused energy differs"
     );
     let g_scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
@@ -232,15 +234,15 @@ pub fn check_derivatives(
         let (mut up, mut um) = (u.to_vec(), u.to_vec());
         up[dof] += h;
         um[dof] -= h;
-        let fd = (term.energy(&up, 0.0) - term.energy(&um, 0.0)) / (2.0 * h);
+        let fd = (term.energy(&up, &cx) - term.energy(&um, &cx)) / (2.0 * h);
         assert!(
             (fd - g[dof]).abs() <= probe.tolerance * g_scale + 1e-9,
             "{label}: g[{dof}] = {} vs fd {fd}",
             g[dof]
         );
         let (mut gp, mut gm) = (vec![0.0; n], vec![0.0; n]);
-        term.add_gradient(&up, 0.0, &mut gp);
-        term.add_gradient(&um, 0.0, &mut gm);
+        term.add_gradient(&up, &cx, &mut gp);
+        term.add_gradient(&um, &cx, &mut gm);
         let (mut col, mut unit) = (vec![0.0; n], vec![0.0; n]);
         unit[dof] = 1.0;
         pattern.sym_matvec(&k, &unit, &mut col);

@@ -19,11 +19,11 @@
 
 use std::sync::Arc;
 
-use crate::assembly::Pattern;
+use crate::assembly::{Dirichlet, Pattern};
 use crate::constraint::Hinge;
 use crate::error::NewtonError;
 use crate::linsolve::Cholesky;
-use crate::terms::Term;
+use crate::terms::{StepContext, Term};
 use crate::Error;
 
 /// Newton settings.
@@ -112,6 +112,11 @@ pub struct Solver {
     diagonal: Vec<usize>,
     /// Largest diagonal entry of the last factorised matrix \[N/m\].
     diagonal_max: f64,
+    /// Degrees of freedom held at zero, imposed after every assembly.
+    fixed: Dirichlet,
+    /// The leading degrees of freedom (the pendulum's nodes) that turn with the proxy angle when a
+    /// factorisation is reused in another frame; the others (a wall) stay as they are.
+    rotating: usize,
     /// Accumulated timings.
     pub timings: Timings,
 }
@@ -151,6 +156,13 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 impl Solver {
     /// Symbolic analysis of `pattern` and buffers for the hinge `hinge`.
     pub fn new(pattern: &Pattern, hinge: &Hinge) -> Result<Self, Error> {
+        Self::with_bodies(pattern, hinge, Dirichlet::default(), pattern.n)
+    }
+
+    /// As [`Solver::new`] for a model of several bodies: `fixed` degrees of freedom held at zero,
+    /// and the first `rotating` degrees of freedom those of the body whose frame the reused
+    /// factorisation follows (see [`Solver::minimize`]).
+    pub fn with_bodies(pattern: &Pattern, hinge: &Hinge, fixed: Dirichlet, rotating: usize) -> Result<Self, Error> {
         let n = pattern.n;
         let chol = Cholesky::new(pattern)?;
         Ok(Self {
@@ -166,6 +178,8 @@ impl Solver {
                 .map(|i| pattern.position(i, i).expect("diagonal in pattern"))
                 .collect(),
             diagonal_max: 0.0,
+            fixed,
+            rotating,
             chol,
             timings: Timings::default(),
         })
@@ -176,18 +190,20 @@ impl Solver {
         self.chol.factor_nnz()
     }
 
-    fn energy(terms: &[&dyn Term], u: &[f64], t: f64) -> f64 {
-        terms.iter().map(|term| term.energy(u, t)).sum()
+    fn energy(terms: &[&dyn Term], u: &[f64], cx: &StepContext) -> f64 {
+        terms.iter().map(|term| term.energy(u, cx)).sum()
     }
 
-    fn assemble(&mut self, pattern: &Pattern, terms: &[&dyn Term], u: &[f64], t: f64) -> f64 {
+    fn assemble(&mut self, pattern: &Pattern, terms: &[&dyn Term], u: &[f64], cx: &StepContext) -> f64 {
         let start = std::time::Instant::now();
         self.g.iter_mut().for_each(|x| *x = 0.0);
         self.k.iter_mut().for_each(|x| *x = 0.0);
         let mut phi = 0.0;
         for term in terms {
-            phi += term.assemble(u, t, pattern, &mut self.g, &mut self.k);
+            phi += term.assemble(u, cx, pattern, &mut self.g, &mut self.k);
         }
+        self.fixed.apply_vector(&mut self.g);
+        self.fixed.apply_matrix(&mut self.k);
         self.timings.assembly += start.elapsed().as_secs_f64();
         phi
     }
@@ -202,24 +218,26 @@ impl Solver {
     }
 
     /// Energy and gradient (no Hessian) at `u` into `self.g`.
-    fn energy_gradient(&mut self, terms: &[&dyn Term], u: &[f64], t: f64) -> f64 {
+    fn energy_gradient(&mut self, terms: &[&dyn Term], u: &[f64], cx: &StepContext) -> f64 {
         let start = std::time::Instant::now();
         self.g.iter_mut().for_each(|x| *x = 0.0);
         let mut phi = 0.0;
         for term in terms {
-            phi += term.energy_gradient(u, t, &mut self.g);
+            phi += term.energy_gradient(u, cx, &mut self.g);
         }
+        self.fixed.apply_vector(&mut self.g);
         self.timings.residual += start.elapsed().as_secs_f64();
         phi
     }
 
     /// Gradient only at `u` into `self.g`.
-    fn gradient_only(&mut self, terms: &[&dyn Term], u: &[f64], t: f64) {
+    fn gradient_only(&mut self, terms: &[&dyn Term], u: &[f64], cx: &StepContext) {
         let start = std::time::Instant::now();
         self.g.iter_mut().for_each(|x| *x = 0.0);
         for term in terms {
-            term.add_gradient(u, t, &mut self.g);
+            term.add_gradient(u, cx, &mut self.g);
         }
+        self.fixed.apply_vector(&mut self.g);
         self.timings.residual += start.elapsed().as_secs_f64();
     }
 
@@ -260,7 +278,10 @@ impl Solver {
         self.chol.solve_in_place(&mut self.hinge_columns);
         self.timings.solve += start.elapsed().as_secs_f64();
         self.factor_frame = Some(state.frame);
-        self.diagonal_max = self.diagonal.iter().fold(0.0f64, |m, &k| m.max(state.values[k].abs()));
+        // the pendulum's: other bodies' rows (a wall at rest, unit rows of fixed nodes) add no rounding
+        self.diagonal_max = self.diagonal[..self.rotating]
+            .iter()
+            .fold(0.0f64, |m, &k| m.max(state.values[k].abs()));
         self.factored = Some(state);
     }
 
@@ -317,12 +338,13 @@ impl Solver {
         for i in 0..n {
             y[i] = -self.g[i];
         }
+        let rot = self.rotating;
         if turn - dphi != 0.0 {
-            rotate_pairs(y, turn - dphi);
+            rotate_pairs(&mut y[..rot], turn - dphi);
         }
         self.chol.solve_in_place(y);
         if dphi != 0.0 {
-            rotate_pairs(y, dphi);
+            rotate_pairs(&mut y[..rot], dphi);
         }
         // The hinge columns K⁻¹Cᵀ in the current frame: Q(dphi) K_f⁻¹ Q(−dphi) Cᵀ. A rotation of
         // the two columns of Cᵀ (each node's weight times e_x, e_y) mixes them:
@@ -335,8 +357,8 @@ impl Solver {
             zy[i] = -sb * fx[i] + cb * fy[i];
         }
         if dphi != 0.0 {
-            rotate_pairs(zx, dphi);
-            rotate_pairs(zy, dphi);
+            rotate_pairs(&mut zx[..rot], dphi);
+            rotate_pairs(&mut zy[..rot], dphi);
         }
         let (y, z) = self.rhs.split_at(n);
         let (zx, zy) = z.split_at(n);
@@ -384,14 +406,14 @@ impl Solver {
         &mut self,
         pattern: &Pattern,
         terms: &[&dyn Term],
-        t: f64,
+        cx: &StepContext,
         u: &mut [f64],
         lambda: &mut [f64; 2],
         settings: &NewtonSettings,
     ) -> Result<NewtonReport, NewtonError> {
         let n = pattern.n;
         let mut report = NewtonReport::default();
-        let mut phi = Some(self.energy_gradient(terms, u, t));
+        let mut phi = Some(self.energy_gradient(terms, u, cx));
         if !phi.is_some_and(f64::is_finite) {
             return Err(NewtonError::NonFinite { iteration: 0 });
         }
@@ -402,7 +424,7 @@ impl Solver {
         for iteration in 1..=settings.max_iterations {
             if need_factor {
                 if !k_at_u {
-                    phi = Some(self.assemble(pattern, terms, u, t));
+                    phi = Some(self.assemble(pattern, terms, u, cx));
                     k_at_u = true;
                 }
                 self.factorize(pattern, settings, iteration, &mut report)?;
@@ -423,7 +445,7 @@ impl Solver {
                 report.step_lengths.push(1.0);
                 (k_at_u, factor_at_u, phi) = (false, false, None);
                 // Equilibrium at the accepted point, from a gradient-only evaluation.
-                self.gradient_only(terms, u, t);
+                self.gradient_only(terms, u, cx);
                 let r = residual_norm_of(&self.g, &self.rows, lam);
                 report.residual = r;
                 if r <= self.residual_bound(settings) {
@@ -441,14 +463,14 @@ impl Solver {
                 // refactorise at u and redo the iteration with the true tangent.
                 let phi0 = match phi {
                     Some(p) => p,
-                    None => Self::energy(terms, u, t),
+                    None => Self::energy(terms, u, cx),
                 };
                 for i in 0..n {
                     self.trial[i] = u[i] + du[i];
                 }
                 let g_saved = self.g.clone();
                 let trial = std::mem::take(&mut self.trial);
-                let phi_trial = self.energy_gradient(terms, &trial, t);
+                let phi_trial = self.energy_gradient(terms, &trial, cx);
                 self.trial = trial;
                 let rounding = 1e-13 * phi0.abs().max(decrement);
                 if phi_trial.is_finite()
@@ -473,7 +495,7 @@ impl Solver {
             // A large update with the true tangent: line search on Φ.
             let phi0 = match phi {
                 Some(p) => p,
-                None => Self::energy(terms, u, t),
+                None => Self::energy(terms, u, cx),
             };
             let residual = residual_norm_of(&self.g, &self.rows, *lambda);
             let rounding = 1e-13 * phi0.abs().max(decrement);
@@ -486,12 +508,12 @@ impl Solver {
                 // The first trial is a full assembly, reused by the next iteration when accepted.
                 let phi_trial = if trial_no == 0 {
                     let trial = std::mem::take(&mut self.trial);
-                    let p = self.assemble(pattern, terms, &trial, t);
+                    let p = self.assemble(pattern, terms, &trial, cx);
                     self.trial = trial;
                     p
                 } else {
                     let start = std::time::Instant::now();
-                    let p = Self::energy(terms, &self.trial, t);
+                    let p = Self::energy(terms, &self.trial, cx);
                     self.timings.line_search += start.elapsed().as_secs_f64();
                     p
                 };
@@ -500,7 +522,7 @@ impl Solver {
                 {
                     if trial_no > 0 {
                         let trial = std::mem::take(&mut self.trial);
-                        self.assemble(pattern, terms, &trial, t);
+                        self.assemble(pattern, terms, &trial, cx);
                         self.trial = trial;
                     }
                     accepted = Some(phi_trial);
@@ -547,7 +569,7 @@ impl Solver {
         &mut self,
         pattern: &Pattern,
         terms: &[&dyn Term],
-        t: f64,
+        cx: &StepContext,
         u: &mut [f64],
         lambda: &mut [f64; 2],
         settings: &NewtonSettings,
@@ -555,7 +577,7 @@ impl Solver {
     ) -> Result<NewtonReport, NewtonError> {
         let n = pattern.n;
         let mut report = NewtonReport::default();
-        if !self.energy_gradient(terms, u, t).is_finite() {
+        if !self.energy_gradient(terms, u, cx).is_finite() {
             return Err(NewtonError::NonFinite { iteration: 0 });
         }
         let mut r_prev = residual_norm_of(&self.g, &self.rows, *lambda);
@@ -566,7 +588,7 @@ impl Solver {
         while iteration < settings.max_iterations {
             iteration += 1;
             if need_factor {
-                self.assemble(pattern, terms, u, t);
+                self.assemble(pattern, terms, u, cx);
                 self.factorize(pattern, settings, iteration, &mut report)?;
                 need_factor = false;
                 factor_at_u = true;
@@ -587,7 +609,7 @@ impl Solver {
                 }
                 let lam_trial = [0, 1].map(|k| lambda[k] + step * (lam[k] - lambda[k]));
                 let trial = std::mem::take(&mut self.trial);
-                let admissible = self.energy_gradient(terms, &trial, t).is_finite();
+                let admissible = self.energy_gradient(terms, &trial, cx).is_finite();
                 self.trial = trial;
                 let r = residual_norm_of(&self.g, &self.rows, lam_trial);
                 if admissible && (r < r_prev || r <= bound) {

@@ -180,7 +180,11 @@ impl StressRecovery {
                 sum[node] += x;
             }
         }
-        sum.iter().zip(&self.counts).map(|(s, c)| s / c).fold(0.0, f64::max)
+        sum.iter()
+            .zip(&self.counts)
+            .filter(|(_, c)| **c > 0.0)
+            .map(|(s, c)| s / c)
+            .fold(0.0, f64::max)
     }
 
     /// Averaged nodal fields and the maximum.
@@ -202,7 +206,8 @@ impl StressRecovery {
                 out.von_mises[node] += vm;
             }
         }
-        for (n, c) in self.counts.iter().enumerate() {
+        // nodes of other bodies (no element here) keep zeros
+        for (n, c) in self.counts.iter().enumerate().filter(|(_, c)| **c > 0.0) {
             for i in 0..3 {
                 out.cauchy[n][i] /= c;
             }

@@ -29,27 +29,28 @@
 //! step, the held torque input, outputs on request; snapshots of the complete state
 //! ([`Snapshot`], `snapshot`).
 
-use crate::assembly::Pattern;
-use crate::config::{Config, InitialAcceleration, InitialElastic, Scheme, TorqueProfile as ProfileKind};
+use crate::assembly::{Dirichlet, Pattern};
+use crate::config::{
+    Config, ContactMethod, InitialAcceleration, InitialElastic, Scheme, TorqueProfile as ProfileKind, WallKind,
+};
 use crate::constraint::Hinge;
 use crate::energy_momentum::EnergyMomentum;
 use crate::error::NewtonError;
-use crate::fe::FeCache;
 use crate::linsolve::Cholesky;
-use crate::material::Material;
 use crate::newmark::{Newmark, State};
 use crate::newton::{NewtonSettings, Solver, Timings};
-use crate::post::{NodalStress, RigidProjection, StressRecovery, Unwrap};
-use crate::quadrature::TriangleRule;
-use crate::terms::inertia::MassMatrix;
-use crate::terms::{
-    DiscreteGradient, Elastic, Gravity, Inertia, Linear, Scaled, StepStart, Term, Torque, TorqueProfile,
-};
+use crate::post::{NodalStress, RigidProjection, Unwrap};
+use crate::terms::inertia::{BodyMass, MassMatrix};
+use crate::terms::{DiscreteGradient, Inertia, Linear, RigidWall, Scaled, StepContext, StepStart, Term, Torque};
 use crate::{Error, Mesh};
 
+pub mod body;
+mod impact;
 mod snapshot;
 mod stepper;
 
+pub use body::{Body, BodySpec};
+pub use impact::{ContactEvent, ContactEventKind};
 pub use snapshot::{fingerprint, Snapshot, SNAPSHOT_VERSION};
 pub use stepper::Energies;
 
@@ -64,24 +65,49 @@ const PROXIMAL_PASSES: usize = 4;
 /// The name of the hinge boundary.
 pub const HINGE_BOUNDARY: &str = "rotation";
 
+/// The name of the head's outer arc, the boundary that touches the wall.
+pub const CONTACT_BOUNDARY: &str = "contact_head";
+
+/// With a wall, the pendulum released at `initial.angle_deg` must lie on the face's free side.
+fn check_wall_clearance(config: &Config, pendulum: &Mesh) -> Result<(), Error> {
+    if config.wall.kind == WallKind::None {
+        return Ok(());
+    }
+    let (s, c) = config.initial.angle_deg.to_radians().sin_cos();
+    let leftmost = pendulum
+        .nodes
+        .iter()
+        .map(|p| c * p[0] - s * p[1])
+        .fold(f64::INFINITY, f64::min);
+    // touching is allowed (the tutorial's wall touches the hanging head); 1 nm for rounding
+    if leftmost < config.wall.x - 1e-9 {
+        return Err(Error::Config(format!(
+            "wall.x = {} m: the pendulum released at initial.angle_deg = {} reaches x = {leftmost:.6} m, inside the \
+             wall; allowed: wall.x <= {leftmost:.6} m for this angle (or a release angle that keeps the head off the wall)",
+            config.wall.x, config.initial.angle_deg
+        )));
+    }
+    Ok(())
+}
+
 /// Everything that does not change during a run.
 pub struct Model {
     /// The configuration.
     pub config: Config,
-    /// The mesh.
+    /// The mesh of every body (the pendulum's nodes and elements first).
     pub mesh: Mesh,
-    /// The constitutive law.
-    pub material: Material,
+    /// The bodies; the first is the pendulum ([`Model::pendulum`]).
+    pub bodies: Vec<Body>,
     /// Fixed sparsity pattern.
     pub pattern: Pattern,
-    /// Strain energy term.
-    pub elastic: Elastic,
-    /// Gravity term.
-    pub gravity: Gravity,
+    /// The fixed degrees of freedom of every body.
+    pub fixed: Dirichlet,
     /// The actuator torque, when `[torque]` has a profile other than `"none"` (its profile is the
     /// configured one, or the value held by [`Simulation::set_torque`]).
     pub torque: Option<Torque>,
-    /// Further terms (contact), added by later stages.
+    /// The rigid wall's contact with the head (`wall.kind = "rigid"`).
+    pub wall: Option<RigidWall>,
+    /// Further terms, added by later stages.
     pub extra_terms: Vec<Box<dyn Term>>,
     /// FNV-1a hash of the configuration (without `time.end` and `[output]`) and the mesh: a
     /// [`Snapshot`] made for another model is refused ([`Simulation::restore`]).
@@ -90,10 +116,8 @@ pub struct Model {
     pub mass: MassMatrix,
     /// The hinge.
     pub hinge: Hinge,
-    /// Proxy-angle functionals and rigid-body moments of area.
+    /// Proxy-angle functionals and rigid-body moments of area (of the pendulum).
     pub projection: RigidProjection,
-    /// Stress evaluation at nodes.
-    pub stress: StressRecovery,
     /// Time integrator.
     pub newmark: Newmark,
     /// α of HHT-α (0: the trapezoidal rule).
@@ -103,36 +127,75 @@ pub struct Model {
 }
 
 impl Model {
-    /// Builds every operator of the run (pattern, mass, terms, symbolic data).
+    /// Builds every operator of the run (pattern, mass, terms, symbolic data) for the pendulum of
+    /// `config` on `mesh`.
     pub fn new(config: &Config, mesh: Mesh) -> Result<Self, Error> {
+        Self::with_bodies(config, mesh, &[])
+    }
+
+    /// As [`Model::new`], with further bodies after the pendulum (see [`body`]).
+    pub fn with_bodies(config: &Config, mesh: Mesh, others: &[BodySpec]) -> Result<Self, Error> {
         config.validate()?;
-        let t = config.geometry.thickness;
-        let rho = config.material.density;
-        let material = Material::from_config(&config.material);
-        let cache = FeCache::new(&mesh, &TriangleRule::degree4(), t)?;
-        let elastic = Elastic::new(material, &mesh, cache);
-        let gravity = Gravity::new(&mesh, rho, t, config.gravity.g);
-        let hinge = Hinge::new(&mesh, HINGE_BOUNDARY)?;
+        let pendulum_mesh = mesh;
+        let (mesh, bodies) = body::build(config, pendulum_mesh, others)?;
+        let hinge = Hinge::new(&bodies[0].mesh, HINGE_BOUNDARY)?;
         let extra_terms: Vec<Box<dyn Term>> = Vec::new();
         let mut torque = None;
         if config.torque.profile != ProfileKind::None {
-            torque = Some(Torque::from_config(
-                &mesh,
-                HINGE_BOUNDARY,
-                &config.torque,
-                config.initial.angle_deg.to_radians(),
-            )?);
+            torque = Some(Torque::from_config(&bodies[0].mesh, HINGE_BOUNDARY, &config.torque)?);
         }
-        let fingerprint = snapshot::fingerprint(config, &mesh);
+        check_wall_clearance(config, &bodies[0].mesh)?;
+        let wall = match config.wall.kind {
+            WallKind::None => None,
+            WallKind::Rigid => {
+                let mut wall = RigidWall::new(
+                    &bodies[0].mesh,
+                    CONTACT_BOUNDARY,
+                    config.wall.x,
+                    config.contact.stiffness,
+                    config.geometry.thickness,
+                    config.contact.points_per_edge,
+                )?;
+                wall.end_point = config.contact.method == ContactMethod::Penalty;
+                Some(wall)
+            }
+            WallKind::Deformable => {
+                return Err(Error::Config(
+                    "wall.kind = \"deformable\" is not available yet; allowed: \"none\", \"rigid\"".into(),
+                ))
+            }
+        };
+        let mut fingerprint = snapshot::fingerprint(config, &mesh);
+        for spec in others {
+            // the other bodies' settings are not in the configuration
+            let settings = format!(
+                "{:?} {} {} {:?}",
+                spec.material, spec.thickness, spec.gravity, spec.fixed
+            );
+            fingerprint = snapshot::fnv1a(&[fingerprint.to_le_bytes().as_slice(), settings.as_bytes()].concat());
+        }
         let loads = torque
             .iter()
             .map(|t| t as &dyn Term)
+            .chain(wall.iter().map(|t| t as &dyn Term))
             .chain(extra_terms.iter().map(|t| t.as_ref()));
         let entries: Vec<(usize, usize)> = loads.flat_map(|t| t.hessian_entries()).collect();
         let pattern = Pattern::new(&mesh, &entries);
-        let mass = MassMatrix::new(&mesh, &pattern, rho, t);
-        let projection = RigidProjection::new(&mesh);
-        let stress = StressRecovery::new(&mesh)?;
+        let parts: Vec<BodyMass> = bodies
+            .iter()
+            .map(|b| BodyMass {
+                mesh: &b.mesh,
+                first_element: b.first_element,
+                density: b.density,
+                thickness: b.thickness,
+            })
+            .collect();
+        let mass = MassMatrix::of_bodies(&pattern, &parts);
+        let projection = RigidProjection::new(&bodies[0].mesh);
+        let fixed = Dirichlet::new(
+            &pattern,
+            bodies.iter().flat_map(|b| b.fixed_dofs.iter().copied()).collect(),
+        );
         // α of HHT-α; 0 gives exactly the average-acceleration rule (β = ¼, γ = ½)
         let hht_alpha = match config.time.scheme {
             Scheme::Trapezoidal | Scheme::EnergyMomentum => 0.0,
@@ -141,34 +204,89 @@ impl Model {
         Ok(Self {
             config: config.clone(),
             mesh,
-            material,
+            bodies,
             pattern,
-            elastic,
-            gravity,
+            fixed,
             torque,
+            wall,
             extra_terms,
             fingerprint,
             mass,
             hinge,
             projection,
-            stress,
             newmark: Newmark::hht(hht_alpha),
             hht_alpha,
             scheme: config.time.scheme,
         })
     }
 
-    /// Largest distance of a node from the pivot \[m\].
+    /// Largest distance of a node of the pendulum from the pivot \[m\].
     pub fn length_scale(&self) -> f64 {
-        self.mesh.nodes.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max)
+        let pendulum = &self.mesh.nodes[self.bodies[0].nodes.clone()];
+        pendulum.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max)
     }
 
-    /// Mass of the body \[kg\].
+    /// The pendulum (the first body).
+    pub fn pendulum(&self) -> &Body {
+        &self.bodies[0]
+    }
+
+    /// The conservative terms of every body with the factor of their Jacobian in the
+    /// energy-momentum system (`1 + χ` for the strain energy, see [`crate::energy_momentum`]):
+    /// strain energy and gravity, body after body.
+    pub fn body_terms(&self, chi: f64) -> Vec<(&dyn Term, f64)> {
+        self.bodies
+            .iter()
+            .flat_map(|b| [(&b.elastic as &dyn Term, 1.0 + chi), (&b.gravity as &dyn Term, 1.0)])
+            .collect()
+    }
+
+    /// Strain energy of every body \[J\].
+    pub fn strain_energy(&self, u: &[f64], cx: &StepContext) -> f64 {
+        self.bodies.iter().map(|b| b.elastic.energy(u, cx)).sum()
+    }
+
+    /// Gravitational energy of every body relative to the pivot height \[J\].
+    pub fn gravity_energy(&self, u: &[f64], cx: &StepContext) -> f64 {
+        self.bodies.iter().map(|b| b.gravity.energy(u, cx)).sum()
+    }
+
+    /// Largest nodal gravity force of any body \[N\].
+    fn largest_gravity_force(&self) -> f64 {
+        self.bodies
+            .iter()
+            .flat_map(|b| b.gravity.load_gradient.iter())
+            .fold(0.0f64, |a, b| a.max(b.abs()))
+    }
+
+    /// Nodal stresses of every body (each node belongs to one body).
+    pub fn nodal_stress(&self, u: &[f64]) -> NodalStress {
+        let mut out = self.bodies[0].nodal_stress(u);
+        for b in &self.bodies[1..] {
+            let other = b.nodal_stress(u);
+            for n in b.nodes.clone() {
+                out.cauchy[n] = other.cauchy[n];
+                out.von_mises[n] = other.von_mises[n];
+            }
+            out.max_von_mises = out.max_von_mises.max(other.max_von_mises);
+        }
+        out
+    }
+
+    /// Largest nodal von Mises stress of any body \[Pa\].
+    pub fn max_von_mises(&self, u: &[f64]) -> f64 {
+        self.bodies
+            .iter()
+            .map(|b| b.stress.max_von_mises(&b.material, u))
+            .fold(0.0, f64::max)
+    }
+
+    /// Mass of the pendulum \[kg\].
     pub fn mass_kg(&self) -> f64 {
         self.config.material.density * self.config.geometry.thickness * self.projection.area
     }
 
-    /// Moment of inertia about the pivot \[kg m²\].
+    /// Moment of inertia of the pendulum about the pivot \[kg m²\].
     pub fn inertia_pivot(&self) -> f64 {
         self.config.material.density * self.config.geometry.thickness * self.projection.polar
     }
@@ -176,30 +294,41 @@ impl Model {
     /// The actuator torque `M(t)` \[N m\] of the `[torque]` section (0 without). With
     /// `torque.follower = false` this is the moment in the reference position; a body turned by `θ`
     /// receives `M cos θ` ([`crate::terms::torque`]).
-    pub fn applied_torque(&self, t: f64) -> f64 {
-        self.torque.as_ref().map_or(0.0, |torque| torque.profile.value(t))
+    /// A torque `held` as an input (see [`Simulation::set_torque`]) replaces the profile.
+    pub fn applied_torque(&self, t: f64, held: Option<f64>) -> f64 {
+        self.torque
+            .as_ref()
+            .map_or(0.0, |torque| held.unwrap_or_else(|| torque.profile.value(t)))
     }
 
-    /// The load terms after gravity: the torque (if any), then [`Model::extra_terms`].
+    /// The load terms after the bodies' own: the torque (if any), the wall's contact (if any), then
+    /// [`Model::extra_terms`].
     pub fn loads(&self) -> impl Iterator<Item = &dyn Term> {
         self.torque
             .iter()
             .map(|t| t as &dyn Term)
+            .chain(self.wall.iter().map(|t| t as &dyn Term))
             .chain(self.extra_terms.iter().map(|t| t.as_ref()))
+    }
+
+    /// Contact energy of the current state \[J\] (0 without a wall).
+    pub fn contact_energy(&self, u: &[f64], cx: &StepContext) -> f64 {
+        self.wall.as_ref().map_or(0.0, |w| w.energy(u, cx))
     }
 
     /// The moment of the actuator about the pivot when the body is rigidly turned by `theta` \[N m\]:
     /// `M(t)` for the follower torque, `M(t) cos θ` for the fixed-direction load.
-    pub fn applied_moment_at(&self, t: f64, theta: f64) -> f64 {
+    pub fn applied_moment_at(&self, t: f64, theta: f64, held: Option<f64>) -> f64 {
         if self.config.torque.follower {
-            self.applied_torque(t)
+            self.applied_torque(t, held)
         } else {
-            self.applied_torque(t) * theta.cos()
+            self.applied_torque(t, held) * theta.cos()
         }
     }
 
-    /// The initial state described by the configuration.
-    pub fn initial_state(&self) -> State {
+    /// The initial state described by the configuration, with the torque `held` as an input if
+    /// any (its rigid acceleration includes the torque).
+    pub fn initial_state(&self, held: Option<f64>) -> State {
         let init = &self.config.initial;
         let theta = init.angle_deg.to_radians();
         let (s, c) = theta.sin_cos();
@@ -211,11 +340,12 @@ impl Model {
         let sx = c * self.projection.first_moment[0] - s * self.projection.first_moment[1];
         let tau_g = -rho_t * self.config.gravity.g * sx;
         let alpha = match init.acceleration {
-            InitialAcceleration::Rigid => (tau_g + self.applied_moment_at(0.0, theta)) / self.inertia_pivot(),
+            InitialAcceleration::Rigid => (tau_g + self.applied_moment_at(0.0, theta, held)) / self.inertia_pivot(),
             InitialAcceleration::Zero => 0.0,
         };
         let rigid_acc = init.acceleration == InitialAcceleration::Rigid;
-        for (n, p) in self.mesh.nodes.iter().enumerate() {
+        // the pendulum turns and moves; the other bodies start at rest, undeformed
+        for (n, p) in self.mesh.nodes.iter().enumerate().take(self.bodies[0].nodes.end) {
             let x = [c * p[0] - s * p[1], s * p[0] + c * p[1]];
             u[2 * n] = x[0] - p[0];
             u[2 * n + 1] = x[1] - p[1];
@@ -274,12 +404,39 @@ pub struct StepRecord {
     pub torque_work: f64,
     /// Angular momentum about the pivot, `∫ ρ t x × v dA` \[kg m²/s\].
     pub angular_momentum: f64,
+    /// The contact with the wall, when the model has one.
+    pub contact: Option<ContactRecord>,
+}
+
+/// The contact columns of a [`StepRecord`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactRecord {
+    /// Smallest signed distance from the head's arc to the wall face \[m\] (negative: penetration).
+    pub gap: f64,
+    /// Normal force of the wall on the head \[N\].
+    pub force: f64,
+    /// Contact energy \[J\] (part of `total`).
+    pub energy: f64,
+    /// Impacts so far.
+    pub impacts: usize,
 }
 
 impl StepRecord {
-    /// CSV header, in this order.
+    /// CSV header, in this order (without a wall).
     pub const HEADER: &'static str = "time_s,theta_rad,omega_rad_s,alpha_rad_s2,kinetic_J,strain_J,gravity_J,total_J,\
 hinge_fx_N,hinge_fy_N,von_mises_max_Pa,newton_iterations,torque_Nm,torque_work_J,angular_momentum_kg_m2_s";
+
+    /// The columns a model with a wall adds after [`StepRecord::HEADER`].
+    pub const CONTACT_HEADER: &'static str = "gap_m,contact_force_N,contact_J,impacts";
+
+    /// The CSV header of a run with (`contact`) or without a wall.
+    pub fn header(contact: bool) -> String {
+        if contact {
+            format!("{},{}", Self::HEADER, Self::CONTACT_HEADER)
+        } else {
+            Self::HEADER.to_string()
+        }
+    }
 }
 
 /// The state of the pendulum at one written time, with everything the frame writers need.
@@ -372,10 +529,14 @@ pub struct Simulation {
     last_iterations: usize,
     /// The torque value held by [`Simulation::set_torque`] \[N m\], if any.
     held_torque: Option<f64>,
-    /// The torque profile of the configuration (restored when a snapshot without a held value is).
-    configured_torque: Option<TorqueProfile>,
     /// Nodal stress evaluations so far ([`Simulation::stress_evaluations`]).
     stress_evaluations: usize,
+    /// Impacts so far.
+    impacts: usize,
+    /// Contact events so far.
+    events: Vec<ContactEvent>,
+    /// The impact in progress.
+    contact_phase: Option<impact::ContactPhase>,
     scratch: Vec<f64>,
     /// `(t, α)` at the start of the previous (sub)step, for the predictor's `α̇`.
     previous_alpha: Option<(f64, f64)>,
@@ -466,16 +627,22 @@ struct Kinematics {
 impl Simulation {
     /// Sets up the run: operators, symbolic factorisation, initial state.
     pub fn new(model: Model) -> Result<Self, Error> {
-        let solver = Solver::new(&model.pattern, &model.hinge)?;
-        let state = model.initial_state();
-        let configured_torque = model.torque.as_ref().map(|t| t.profile.clone());
+        let solver = Solver::with_bodies(
+            &model.pattern,
+            &model.hinge,
+            model.fixed.clone(),
+            2 * model.bodies[0].nodes.end,
+        )?;
+        let state = model.initial_state(None);
         let mut sim = Self {
             theta: 0.0,
             clock: Clock::START,
             last_iterations: 0,
             held_torque: None,
-            configured_torque,
             stress_evaluations: 0,
+            impacts: 0,
+            events: Vec::new(),
+            contact_phase: None,
             solver,
             state,
             lambda: [0.0; 2],
@@ -500,17 +667,21 @@ impl Simulation {
     /// motion, the hinge force of its balance of linear momentum, the elastic equilibrium.
     fn initialize(&mut self) -> Result<(), Error> {
         let sim = self;
-        sim.state = sim.model.initial_state();
+        sim.state = sim.model.initial_state(sim.held_torque);
         sim.rates = None;
-        if let Some(torque) = &sim.model.torque {
-            torque.set_reference_angle(sim.model.config.initial.angle_deg.to_radians());
-        }
+        // the branch of the hub angle: the initial angle
+        sim.theta = sim.model.config.initial.angle_deg.to_radians();
         // The multipliers of the initial state from the balance of linear momentum:
         // −λ = ∫ ρ t a dA − F_gravity  (the force the hinge must exert on the body).
         let mut ma = vec![0.0; sim.state.a.len()];
         sim.model.mass.apply(&sim.state.a, &mut ma);
+        let pendulum = &sim.model.bodies[0];
+        let (ma, weight) = (
+            &ma[..2 * pendulum.nodes.end],
+            pendulum.gravity.load_gradient.iter().sum::<f64>(),
+        );
         let fx: f64 = ma.iter().step_by(2).sum();
-        let fy: f64 = ma.iter().skip(1).step_by(2).sum::<f64>() + sim.model.gravity.load_gradient.iter().sum::<f64>();
+        let fy: f64 = ma.iter().skip(1).step_by(2).sum::<f64>() + weight;
         sim.lambda = [-fx, -fy];
         if sim.model.config.initial.elastic_state() == InitialElastic::Equilibrium {
             sim.equilibrate()?;
@@ -527,14 +698,12 @@ impl Simulation {
         let mut inertial = vec![0.0; self.state.a.len()];
         m.mass.apply(&self.state.a, &mut inertial);
         let dalembert = Linear { gradient: inertial };
-        for t in m.loads() {
-            t.begin_step(&self.state.u, self.state.t);
-        }
+        let cx = StepContext::at(&self.state.u, self.state.t, self.theta, self.held_torque);
         let load_scale = dalembert
             .gradient
             .iter()
-            .chain(&m.gravity.load_gradient)
-            .fold(1e-12f64, |a, b| a.max(b.abs()));
+            .fold(1e-12f64, |a, b| a.max(b.abs()))
+            .max(m.largest_gravity_force());
         let settings = NewtonSettings {
             tolerance: m.config.solver.tolerance,
             // a static problem, not a time step: at least 20 iterations whatever solver.max_iterations
@@ -564,11 +733,13 @@ impl Simulation {
                 factor: 1e4,
                 predictor: u.clone(),
             };
-            let mut terms: Vec<&dyn Term> = vec![&pin, &m.elastic, &m.gravity, &dalembert];
+            let mut terms: Vec<&dyn Term> = vec![&pin];
+            terms.extend(m.body_terms(0.0).into_iter().map(|(t, _)| t));
+            terms.push(&dalembert);
             terms.extend(m.loads());
             let before = u.clone();
             self.solver
-                .minimize(&m.pattern, &terms, 0.0, &mut u, &mut lambda, &settings)
+                .minimize(&m.pattern, &terms, &cx, &mut u, &mut lambda, &settings)
                 .map_err(|source| Error::InitialEquilibrium { source })?;
             let change = u.iter().zip(&before).fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
             if change < 1e-15 {
@@ -601,10 +772,18 @@ impl Simulation {
             kinetic,
             momentum,
         } = self.kinematics();
+        let cx = self.context();
         let m = &self.model;
         let s = &self.state;
-        let strain = m.elastic.energy(&s.u, s.t);
-        let gravity = m.gravity.energy(&s.u, s.t);
+        let strain = m.strain_energy(&s.u, &cx);
+        let gravity = m.gravity_energy(&s.u, &cx);
+        let contact = m.wall.as_ref().map(|w| ContactRecord {
+            gap: w.smallest_gap(&s.u),
+            force: w.normal_force(&s.u),
+            energy: w.energy(&s.u, &cx),
+            impacts: self.impacts,
+        });
+        let contact_energy = contact.map_or(0.0, |c| c.energy);
         StepRecord {
             step: self.step,
             time: s.t,
@@ -614,14 +793,20 @@ impl Simulation {
             kinetic,
             strain,
             gravity,
-            total: kinetic + strain + gravity,
+            total: kinetic + strain + gravity + contact_energy,
             hinge_force: Hinge::reaction(self.lambda),
             von_mises_max,
             newton_iterations,
-            torque: m.applied_torque(s.t),
+            torque: m.applied_torque(s.t, self.held_torque),
             torque_work: self.torque_work,
             angular_momentum: momentum,
+            contact,
         }
+    }
+
+    /// The [`StepContext`] of the current state by itself (its time, unwrapped θ and held inputs).
+    pub fn context(&self) -> StepContext<'_> {
+        StepContext::at(&self.state.u, self.state.t, self.theta, self.held_torque)
     }
 
     /// Angular momentum about the pivot of the current state, `Σ_ab M_ab x_a × v_b` \[kg m²/s\].
@@ -655,7 +840,9 @@ impl Simulation {
         if self.mass_solver.is_none() {
             let m = &self.model;
             let mut chol = Cholesky::new(&m.pattern).expect("the symbolic analysis succeeded at set-up");
-            chol.factor(&m.pattern, &m.mass.values)
+            let mut mass = m.mass.values.clone();
+            m.fixed.apply_matrix(&mut mass);
+            chol.factor(&m.pattern, &mass)
                 .expect("a consistent mass matrix is positive definite");
             let n = m.pattern.n;
             let rows = m.hinge.dense_rows(n);
@@ -664,14 +851,17 @@ impl Simulation {
             self.mass_solver = Some((chol, rows, columns));
         }
         let m = &self.model;
-        let (s, t) = (&self.state, self.state.t);
+        let s = &self.state;
+        let cx = StepContext::at(&s.u, s.t, self.theta, self.held_torque);
         let mut force = vec![0.0; s.u.len()];
-        m.elastic.add_gradient(&s.u, t, &mut force);
-        m.gravity.add_gradient(&s.u, t, &mut force);
+        for (term, _) in m.body_terms(0.0) {
+            term.add_gradient(&s.u, &cx, &mut force);
+        }
         for term in m.loads() {
-            term.add_gradient(&s.u, t, &mut force);
+            term.add_gradient(&s.u, &cx, &mut force);
         }
         force.iter_mut().for_each(|f| *f = -*f);
+        m.fixed.apply_vector(&mut force);
         let (chol, rows, columns) = self.mass_solver.as_mut().expect("made above");
         chol.solve_in_place(&mut force);
         // C (y − Z μ) = 0 with Z = M⁻¹Cᵀ: a 2×2 system for μ
@@ -702,8 +892,8 @@ impl Simulation {
         self.scratch.resize(self.state.a.len(), 0.0);
         m.mass.apply(&self.state.a, &mut self.scratch);
         let inertia = self.scratch.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-        let gravity = m.gravity.load_gradient.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-        let torque = m.applied_torque(t).abs();
+        let gravity = m.largest_gravity_force();
+        let torque = m.applied_torque(t, self.held_torque).abs();
         let mut driven = 0.0;
         if torque > 0.0 {
             // M (e_z × x) = e_z × (M x): the nodal inertia forces of a unit angular acceleration
@@ -729,7 +919,10 @@ impl Simulation {
             return k;
         }
         let m = &self.model;
-        let x = m.positions(&self.state.u);
+        // the pendulum's positions (zeros at the other bodies' nodes: the rigid-body measures are
+        // the pendulum's; the mass matrix couples no two bodies, so M x stays the pendulum's)
+        let mut x = m.positions(&self.state.u);
+        x[2 * m.bodies[0].nodes.end..].iter_mut().for_each(|c| *c = 0.0);
         self.mx.resize(x.len(), 0.0);
         m.mass.apply(&x, &mut self.mx);
         let mx = &self.mx;
@@ -745,9 +938,10 @@ impl Simulation {
             // energy's forces and the hinge force have none) over the polar moment of inertia
             self.scratch.resize(x.len(), 0.0);
             self.scratch.iter_mut().for_each(|g| *g = 0.0);
-            m.gravity.add_gradient(&self.state.u, self.state.t, &mut self.scratch);
+            let cx = StepContext::at(&self.state.u, self.state.t, self.theta, self.held_torque);
+            m.bodies[0].gravity.add_gradient(&self.state.u, &cx, &mut self.scratch);
             for term in m.loads() {
-                term.add_gradient(&self.state.u, self.state.t, &mut self.scratch);
+                term.add_gradient(&self.state.u, &cx, &mut self.scratch);
             }
             let moment: f64 = (0..x.len() / 2)
                 .map(|a| x[2 * a + 1] * self.scratch[2 * a] - x[2 * a] * self.scratch[2 * a + 1])
@@ -790,8 +984,16 @@ impl Simulation {
         }
         let (s, c) = phi.sin_cos();
         let u = &self.state.u;
-        let mut guess = vec![0.0; u.len()];
-        for (n, p) in self.model.mesh.nodes.iter().enumerate() {
+        let mut guess = u.clone();
+        // the pendulum turns; the other bodies start from where they are
+        for (n, p) in self
+            .model
+            .mesh
+            .nodes
+            .iter()
+            .enumerate()
+            .take(self.model.bodies[0].nodes.end)
+        {
             let x = [p[0] + u[2 * n], p[1] + u[2 * n + 1]];
             guess[2 * n] = c * x[0] - s * x[1] - p[0];
             guess[2 * n + 1] = s * x[0] + c * x[1] - p[1];
@@ -806,10 +1008,14 @@ impl Simulation {
         let load_scale = self.load_scale(t_new);
         let kinetic = self.kinematics().kinetic;
         let m = &self.model;
-        for term in m.loads() {
-            term.begin_step(&self.state.u, t0);
-        }
         let u0 = &self.state.u;
+        let cx = StepContext {
+            t: t_new,
+            dt,
+            u0,
+            theta0: self.theta,
+            torque: self.held_torque,
+        };
         let chi = m.config.time.dissipation;
         let inertia = Inertia {
             mass: &m.mass,
@@ -817,9 +1023,9 @@ impl Simulation {
             factor: EnergyMomentum::inertia_factor(dt),
             predictor: EnergyMomentum::predictor(dt, &self.state),
         };
-        let mut physical: Vec<(&dyn Term, f64)> = vec![(&m.elastic, 1.0 + chi), (&m.gravity, 1.0)];
+        let mut physical: Vec<(&dyn Term, f64)> = m.body_terms(chi);
         physical.extend(m.loads().map(|t| (t, 1.0)));
-        let starts: Vec<Vec<f64>> = physical.iter().map(|(t, _)| t.discrete_start(u0, t0)).collect();
+        let starts: Vec<Vec<f64>> = physical.iter().map(|(t, _)| t.discrete_start(&cx)).collect();
         let discrete: Vec<DiscreteGradient> = physical
             .iter()
             .zip(&starts)
@@ -839,8 +1045,12 @@ impl Simulation {
         terms.extend(discrete.iter().map(|t| t as &dyn Term));
         // the doubled equation carries twice the hinge force
         let mut lambda = self.lambda.map(|l| 2.0 * l);
-        let weight = m.gravity.load_gradient.iter().sum::<f64>();
-        let scale = crate::energy_momentum::energy_scale(kinetic, weight * m.length_scale(), m.applied_torque(t_new));
+        let weight = m.bodies[0].gravity.load_gradient.iter().sum::<f64>();
+        let scale = crate::energy_momentum::energy_scale(
+            kinetic,
+            weight * m.length_scale(),
+            m.applied_torque(t_new, self.held_torque),
+        );
         let energy_bound = m.config.solver.energy_tolerance * scale;
         let settings = NewtonSettings {
             tolerance: m.config.solver.tolerance,
@@ -856,7 +1066,7 @@ impl Simulation {
         let report = self.solver.solve(
             &m.pattern,
             &terms,
-            t_new,
+            &cx,
             &mut u,
             &mut lambda,
             &settings,
@@ -875,16 +1085,20 @@ impl Simulation {
         let t_new = self.state.t + dt;
         let load_scale = self.load_scale(t_new);
         let m = &self.model;
-        for term in m.loads() {
-            term.begin_step(&self.state.u, self.state.t);
-        }
+        let cx = StepContext {
+            t: t_new,
+            dt,
+            u0: &self.state.u,
+            theta0: self.theta,
+            torque: self.held_torque,
+        };
         let inertia = Inertia {
             mass: &m.mass,
             pattern: &m.pattern,
             factor: m.newmark.inertia_factor(dt),
             predictor: m.newmark.predict_u(dt, &self.state),
         };
-        let mut physical: Vec<&dyn Term> = vec![&m.elastic, &m.gravity];
+        let mut physical: Vec<&dyn Term> = m.body_terms(0.0).into_iter().map(|(t, _)| t).collect();
         physical.extend(m.loads());
         // HHT-α: (1 + α) Π(u, tₙ₊₁) − α ∇Π(uₙ, tₙ)·u; plain terms for the trapezoidal rule.
         let alpha = m.hht_alpha;
@@ -901,8 +1115,9 @@ impl Simulation {
             terms.extend(physical.iter().copied());
         } else {
             previous.gradient = vec![0.0; self.state.u.len()];
+            let start = StepContext::at(&self.state.u, self.state.t, self.theta, self.held_torque);
             for term in &physical {
-                term.add_gradient(&self.state.u, self.state.t, &mut previous.gradient);
+                term.add_gradient(&self.state.u, &start, &mut previous.gradient);
             }
             previous.gradient.iter_mut().for_each(|g| *g *= -alpha);
             terms.extend(scaled.iter().map(|t| t as &dyn Term));
@@ -922,7 +1137,7 @@ impl Simulation {
         };
         let report = self
             .solver
-            .minimize(&m.pattern, &terms, t_new, &mut u, &mut lambda, &settings)?;
+            .minimize(&m.pattern, &terms, &cx, &mut u, &mut lambda, &settings)?;
         let new_state = m.newmark.correct(dt, &self.state, u);
         self.total_factorizations += report.factorizations;
         Ok((new_state, lambda, report.iterations))
@@ -936,13 +1151,22 @@ impl Simulation {
                 self.previous_alpha = Some(start);
                 self.rates = None;
                 let old = &self.state;
+                let cx = StepContext {
+                    t: state.t,
+                    dt,
+                    u0: &old.u,
+                    theta0: self.theta,
+                    torque: self.held_torque,
+                };
                 self.torque_work += self
                     .model
                     .loads()
-                    .map(|term| term.external_work(&old.u, old.t, &state.u, state.t))
+                    .map(|term| term.external_work(&state.u, &cx))
                     .sum::<f64>();
                 self.state = state;
                 self.lambda = lambda;
+                // the branch of θ for the next (sub)step's context
+                self.theta = self.unwrap.next(self.model.projection.angle(&self.state.u));
                 Ok(its)
             }
             Err(e) if depth < self.model.config.solver.max_cutbacks => {
@@ -984,13 +1208,24 @@ impl Simulation {
         };
         let h = dt / substeps as f64;
         let mut its = 0;
-        for _ in 0..substeps {
-            its += self.advance_by(h, 0).map_err(|(source, dt_min)| Error::TimeStep {
-                step: self.step + 1,
+        let failed = |step: usize| {
+            move |(source, dt_min)| Error::TimeStep {
+                step,
                 t: t0,
                 dt: dt_min,
                 source,
-            })?;
+            }
+        };
+        if self.resolves_impacts() {
+            its = self.advance_resolving(dt).map_err(failed(self.step + 1))?;
+        } else {
+            for _ in 0..substeps {
+                let u0 = self.model.wall.is_some().then(|| self.state.u.clone());
+                its += self.advance_by(h, 0).map_err(failed(self.step + 1))?;
+                if let Some(u0) = u0 {
+                    self.contact_step_ends(&u0, h);
+                }
+            }
         }
         self.step += 1;
         self.total_iterations += its;

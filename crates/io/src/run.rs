@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use crate::csv::CsvWriter;
 use crate::progress::{Progress, ProgressMode};
-use crate::simulation::{Simulation, StepRecord};
+use crate::simulation::{ContactRecord, Simulation, StepRecord};
 use crate::{mesh, Config, Error};
 use crate::{prepare_output_dir, FrameWriters};
 use pendulum_fem_core::post::PeriodEstimator;
@@ -99,8 +99,10 @@ pub struct RunSummary {
 }
 
 /// The values of a record in CSV column order.
+/// The columns are [`StepRecord::HEADER`]'s, then [`StepRecord::CONTACT_HEADER`]'s for a model
+/// with a wall.
 pub fn csv_values(r: &StepRecord) -> Vec<f64> {
-    vec![
+    let mut v = vec![
         r.time,
         r.theta,
         r.omega,
@@ -116,7 +118,11 @@ pub fn csv_values(r: &StepRecord) -> Vec<f64> {
         r.torque,
         r.torque_work,
         r.angular_momentum,
-    ]
+    ];
+    if let Some(c) = &r.contact {
+        v.extend([c.gap, c.force, c.energy, c.impacts as f64]);
+    }
+    v
 }
 
 /// The main job: prepares the output folder (before computing anything), then runs with every
@@ -215,14 +221,15 @@ fn resume(dir: &std::path::Path, sim: &mut Simulation) -> Result<Resumed, Error>
             }
         }
     }
+    let columns = csv_values(&sim.record(0)).len();
     let mut rows = Vec::with_capacity(k + 1);
     for (i, line) in text[..end].lines().skip(1).enumerate() {
         let values: Result<Vec<f64>, _> = line.split(',').map(str::parse::<f64>).collect();
         match values {
-            Ok(v) if v.len() == 15 => rows.push(record_of_row(i, &v)),
+            Ok(v) if v.len() == columns => rows.push(record_of_row(i, &v)),
             _ => {
                 return Err(Error::Input(format!(
-                    "{}:{}: not a row of 15 numbers",
+                    "{}:{}: not a row of {columns} numbers",
                     csv_path.display(),
                     i + 2
                 )))
@@ -249,6 +256,27 @@ fn resume(dir: &std::path::Path, sim: &mut Simulation) -> Result<Resumed, Error>
     Ok((rows, times))
 }
 
+/// Header of `events.csv`.
+pub const EVENTS_HEADER: &str = "time_s,event,theta_rad,omega_rad_s,impulse_N_s,max_penetration_m";
+
+/// Writes `events.csv` (every contact event so far; replaced atomically, so that a stopped or
+/// restarted run leaves it whole).
+fn write_events(dir: &std::path::Path, events: &[pendulum_fem_core::simulation::ContactEvent]) -> Result<(), Error> {
+    let mut text = format!("{EVENTS_HEADER}\n");
+    for e in events {
+        text.push_str(&format!(
+            "{},{},{},{},{},{}\n",
+            e.time,
+            e.kind.name(),
+            e.theta,
+            e.omega,
+            e.impulse,
+            e.penetration
+        ));
+    }
+    crate::vtu::write_atomically(&dir.join("events.csv"), |w| w.write_all(text.as_bytes()))
+}
+
 /// The record of a `results.csv` row (in [`csv_values`] order) of step `step`.
 fn record_of_row(step: usize, v: &[f64]) -> StepRecord {
     StepRecord {
@@ -267,6 +295,12 @@ fn record_of_row(step: usize, v: &[f64]) -> StepRecord {
         torque: v[12],
         torque_work: v[13],
         angular_momentum: v[14],
+        contact: (v.len() >= 19).then(|| ContactRecord {
+            gap: v[15],
+            force: v[16],
+            energy: v[17],
+            impacts: v[18] as usize,
+        }),
     }
 }
 
@@ -378,6 +412,7 @@ fn run_steps(
     let seconds_setup = t_setup.elapsed().as_secs_f64();
     let t_steps = Instant::now();
     let csv_path = out_dir.join("results.csv");
+    let header = StepRecord::header(sim.model.wall.is_some());
     let (earlier, earlier_times) = match opts.restart {
         true => resume(&out_dir, &mut sim)?,
         false => Default::default(),
@@ -386,8 +421,8 @@ fn run_steps(
         write_checkpoint_config(&out_dir, cfg)?;
     }
     let mut csv = match opts.restart {
-        true => CsvWriter::append(&csv_path, StepRecord::HEADER)?,
-        false => CsvWriter::create(&csv_path, StepRecord::HEADER)?,
+        true => CsvWriter::append(&csv_path, &header)?,
+        false => CsvWriter::create(&csv_path, &header)?,
     };
     let mut summary = RunSummary {
         out_dir: out_dir.clone(),
@@ -444,9 +479,16 @@ fn run_steps(
     let mut resumed = opts.restart;
     // The loop ends with `Ok(())` (completed or interrupted) or the error that stopped it; the
     // outputs of what was computed are finished either way.
+    let mut events_written = usize::MAX;
     let stopped: Result<(), Error> = loop {
         if !resumed {
             if let Err(e) = csv.row(&csv_values(&record)) {
+                break Err(e);
+            }
+        }
+        if sim.model.wall.is_some() && sim.contact_events().len() != events_written {
+            events_written = sim.contact_events().len();
+            if let Err(e) = write_events(&out_dir, sim.contact_events()) {
                 break Err(e);
             }
         }

@@ -21,8 +21,9 @@
 //! grow with the length of the run.
 //!
 //! ```no_run
-//! # use pendulum_fem::{config::Config, io::{prepare_output_dir, Frame, FrameWriters}, Mesh};
-//! # fn demo(cfg: &Config, mesh: &Mesh, out: Option<&std::path::Path>, frames: &[Frame<'_>]) -> Result<(), pendulum_fem::Error> {
+//! # use pendulum_fem_core::{config::Config, Mesh};
+//! # use pendulum_fem_io::{prepare_output_dir, Frame, FrameWriters};
+//! # fn demo(cfg: &Config, mesh: &Mesh, out: Option<&std::path::Path>, frames: &[Frame<'_>]) -> Result<(), pendulum_fem_core::Error> {
 //! let dir = prepare_output_dir(&cfg.output.dir, out, false)?; // before any computing
 //! let mut writers = FrameWriters::new(&dir, mesh, &cfg.output, None)?;
 //! for frame in frames {

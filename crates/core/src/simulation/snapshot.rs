@@ -4,7 +4,8 @@
 //! time, the hinge multipliers, the counters (steps, Newton iterations, factorisations, cut-backs),
 //! the unwrapped θ (the branch of the unwrapping), the `(t, α)` of the previous step (the
 //! predictor's `α̇`), the run of equal steps of the clock, the Newton iterations of the last step,
-//! the torque's work, the torque term's reference angle and the held torque input, and the
+//! the torque's work and the held torque input (terms keep no state of their own), the contact
+//! events and the impact in progress, and the
 //! solver's reusable factorisation. The factorisation is reused across steps, so the iterates of
 //! later steps depend on it bit for bit; the snapshot keeps the *matrix* that was factorised and its
 //! frame (not the factor), and restoring factorises that matrix again, which reproduces the factor
@@ -29,7 +30,8 @@
 
 use std::sync::Arc;
 
-use super::{Clock, Simulation};
+use super::impact::ContactPhase;
+use super::{Clock, ContactEvent, ContactEventKind, Simulation};
 use crate::config::Config;
 use crate::newmark::State;
 use crate::newton::FactorState;
@@ -37,7 +39,7 @@ use crate::post::Unwrap;
 use crate::{Error, Mesh};
 
 /// Version of the byte format of [`Snapshot::to_bytes`].
-pub const SNAPSHOT_VERSION: u32 = 1;
+pub const SNAPSHOT_VERSION: u32 = 2;
 
 const MAGIC: &[u8; 8] = b"PFEMSNAP";
 
@@ -45,7 +47,7 @@ const MAGIC: &[u8; 8] = b"PFEMSNAP";
 #[derive(Clone, Debug, PartialEq)]
 pub struct Snapshot {
     fingerprint: u64,
-    state: State,
+    pub(super) state: State,
     lambda: [f64; 2],
     step: usize,
     total_iterations: usize,
@@ -56,8 +58,10 @@ pub struct Snapshot {
     previous_alpha: Option<(f64, f64)>,
     clock: Clock,
     last_iterations: usize,
-    torque_reference: Option<f64>,
     held_torque: Option<f64>,
+    impacts: usize,
+    events: Vec<ContactEvent>,
+    contact_phase: Option<ContactPhase>,
     factor: Option<Arc<FactorState>>,
 }
 
@@ -130,8 +134,10 @@ impl Simulation {
             previous_alpha: self.previous_alpha,
             clock: self.clock,
             last_iterations: self.last_iterations,
-            torque_reference: self.model.torque.as_ref().map(|t| t.reference_angle()),
             held_torque: self.held_torque,
+            impacts: self.impacts,
+            events: self.events.clone(),
+            contact_phase: self.contact_phase,
             factor: self.solver.factor_state(),
         }
     }
@@ -156,11 +162,6 @@ impl Simulation {
                 s.u.len()
             )));
         }
-        if snapshot.torque_reference.is_some() != self.model.torque.is_some() {
-            return Err(Error::Input(
-                "snapshot: made with a torque term where this model has none, or the other way round".into(),
-            ));
-        }
         self.apply(snapshot);
         Ok(())
     }
@@ -180,9 +181,9 @@ impl Simulation {
         self.clock = s.clock;
         self.last_iterations = s.last_iterations;
         self.apply_torque_input(s.held_torque);
-        if let (Some(torque), Some(phi)) = (&self.model.torque, s.torque_reference) {
-            torque.set_reference_angle(phi);
-        }
+        self.impacts = s.impacts;
+        self.events = s.events.clone();
+        self.contact_phase = s.contact_phase;
         self.rates = None;
         // The matrix was factorised before with this symbolic analysis; should that fail now, the
         // next step factorises afresh.
@@ -335,8 +336,31 @@ impl Snapshot {
         w.f64(self.clock.dt);
         w.u64(self.clock.count);
         w.usize(self.last_iterations);
-        w.opt_f64(self.torque_reference);
         w.opt_f64(self.held_torque);
+        w.usize(self.impacts);
+        w.usize(self.events.len());
+        for e in &self.events {
+            w.f64(e.time);
+            w.u8(u8::from(e.kind == ContactEventKind::End));
+            w.f64(e.theta);
+            w.f64(e.omega);
+            w.f64(e.impulse);
+            w.f64(e.penetration);
+        }
+        match self.contact_phase {
+            Some(p) => {
+                w.u8(1);
+                w.f64(p.substep);
+                w.u8(u8::from(p.resolved));
+                w.f64(p.first_substep);
+                w.opt_f64(p.separated);
+                w.f64(p.touch);
+                w.u8(u8::from(p.penetrated));
+                w.f64(p.impulse);
+                w.f64(p.penetration);
+            }
+            None => w.u8(0),
+        }
         match &self.factor {
             Some(f) => {
                 w.u8(1);
@@ -401,8 +425,44 @@ impl Snapshot {
             count: r.u64("clock")?,
         };
         let last_iterations = r.usize("last iterations")?;
-        let torque_reference = r.opt_f64("torque reference")?;
         let held_torque = r.opt_f64("held torque")?;
+        let impacts = r.usize("impacts")?;
+        let count = r.usize("events")?;
+        if count > body.len() {
+            return Err(Error::Input(format!(
+                "{source}: {count} contact events in a snapshot of {} bytes",
+                body.len()
+            )));
+        }
+        let mut events = Vec::with_capacity(count);
+        for _ in 0..count {
+            events.push(ContactEvent {
+                time: r.f64("event")?,
+                kind: if r.flag("event")? {
+                    ContactEventKind::End
+                } else {
+                    ContactEventKind::Start
+                },
+                theta: r.f64("event")?,
+                omega: r.f64("event")?,
+                impulse: r.f64("event")?,
+                penetration: r.f64("event")?,
+            });
+        }
+        let contact_phase = if r.flag("contact")? {
+            Some(ContactPhase {
+                substep: r.f64("contact")?,
+                resolved: r.flag("contact")?,
+                first_substep: r.f64("contact")?,
+                separated: r.opt_f64("contact")?,
+                touch: r.f64("contact")?,
+                penetrated: r.flag("contact")?,
+                impulse: r.f64("contact")?,
+                penetration: r.f64("contact")?,
+            })
+        } else {
+            None
+        };
         let factor = if r.flag("factorisation")? {
             let frame = (r.f64("factorisation")?, r.f64("factorisation")?);
             let values = r.vec("factorisation")?;
@@ -430,8 +490,10 @@ impl Snapshot {
             previous_alpha,
             clock,
             last_iterations,
-            torque_reference,
             held_torque,
+            impacts,
+            events,
+            contact_phase,
             factor,
         })
     }

@@ -8,8 +8,7 @@
 //!   reached; time is never rounded to a grid. [`Simulation::step_to`] lands exactly on a time.
 //! * **A failed step changes nothing.** When a step fails after its cut-backs, everything that
 //!   determines later steps is put back as it was before the call (fields, multipliers, counters,
-//!   the unwrapping branch of θ, the previous α, the torque's work and its reference angle, the
-//!   held torque, and the solver's reusable factorisation), and the error is returned: calling
+//!   the unwrapping branch of θ, the previous α, the torque's work, the held torque, and the solver's reusable factorisation), and the error is returned: calling
 //!   again with a smaller `dt` is the same as having called with it in the first place.
 //! * **Inputs held between steps**: [`Simulation::set_torque`] replaces the `[torque]` profile by a
 //!   value held until it is set again (a zero-order hold: the step uses it from its start to its end).
@@ -23,7 +22,6 @@
 use super::{Clock, Simulation};
 use crate::constraint::Hinge;
 use crate::post::NodalStress;
-use crate::terms::{Term, TorqueProfile};
 use crate::Error;
 
 /// The energies of the current state \[J\].
@@ -35,7 +33,9 @@ pub struct Energies {
     pub strain: f64,
     /// Gravitational energy relative to the pivot height.
     pub gravity: f64,
-    /// `kinetic + strain + gravity`.
+    /// Contact energy (0 without a wall).
+    pub contact: f64,
+    /// `kinetic + strain + gravity + contact`.
     pub total: f64,
     /// Work done by the torque since the start (not part of `total`: `total − total(0)` equals it up
     /// to the integrator's energy error).
@@ -127,16 +127,10 @@ impl Simulation {
         self.held_torque
     }
 
-    /// Makes the torque of the model follow `held` (a value) or the configured profile (`None`).
+    /// Makes the torque follow `held` (a value) or the configured profile (`None`): the held input
+    /// reaches the terms through their [`crate::terms::StepContext`].
     pub(super) fn apply_torque_input(&mut self, held: Option<f64>) {
         self.held_torque = held;
-        if let Some(torque) = self.model.torque.as_mut() {
-            torque.profile = match (held, &self.configured_torque) {
-                (Some(amplitude), _) => TorqueProfile::Constant { amplitude },
-                (None, Some(profile)) => profile.clone(),
-                (None, None) => TorqueProfile::Zero,
-            };
-        }
     }
 
     /// Time of the current state \[s\].
@@ -158,14 +152,17 @@ impl Simulation {
     /// Kinetic, strain and gravitational energy of the current state and the torque's work \[J\].
     pub fn energies(&mut self) -> Energies {
         let kinetic = self.kinematics().kinetic;
+        let cx = self.context();
         let (s, m) = (&self.state, &self.model);
-        let strain = m.elastic.energy(&s.u, s.t);
-        let gravity = m.gravity.energy(&s.u, s.t);
+        let strain = m.strain_energy(&s.u, &cx);
+        let gravity = m.gravity_energy(&s.u, &cx);
+        let contact = m.contact_energy(&s.u, &cx);
         Energies {
             kinetic,
             strain,
             gravity,
-            total: kinetic + strain + gravity,
+            contact,
+            total: kinetic + strain + gravity + contact,
             torque_work: self.torque_work,
         }
     }
@@ -188,13 +185,13 @@ impl Simulation {
     /// Nodal Cauchy and von Mises stresses of the current state (computed on this call).
     pub fn nodal_stress(&mut self) -> NodalStress {
         self.stress_evaluations += 1;
-        self.model.stress.nodal(&self.model.material, &self.state.u)
+        self.model.nodal_stress(&self.state.u)
     }
 
     /// The largest nodal von Mises stress of the current state \[Pa\] (computed on this call).
     pub fn von_mises_max(&mut self) -> f64 {
         self.stress_evaluations += 1;
-        self.model.stress.max_von_mises(&self.model.material, &self.state.u)
+        self.model.max_von_mises(&self.state.u)
     }
 
     /// How often nodal stresses were computed so far (by [`Simulation::nodal_stress`],

@@ -27,7 +27,7 @@
 //! The Hessian entries couple the nodes of one edge, which lie in one element: they are in the
 //! element pattern, and the term writes them (zeros when apart) without extra entries.
 
-use super::{StepStart, Term};
+use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
 use crate::element::Tri6;
 use crate::quadrature::gauss_legendre_unit;
@@ -53,6 +53,9 @@ pub struct RigidWall {
     pub face_x: f64,
     /// `k` \[N/m³\].
     pub stiffness: f64,
+    /// `true`: the force of a step is the penalty force at its end, `∇Π_c(u₁)` (the tutorial's
+    /// `contact.method = "penalty"`), not the secant; it does not conserve energy.
+    pub end_point: bool,
     points: Vec<ContactPoint>,
 }
 
@@ -92,6 +95,7 @@ impl RigidWall {
         Ok(Self {
             face_x,
             stiffness,
+            end_point: false,
             points,
         })
     }
@@ -111,6 +115,79 @@ impl RigidWall {
         self.points.iter().map(|p| self.gap(p, u)).fold(f64::INFINITY, f64::min)
     }
 
+    /// The secant of each point's energy density along its gap (see the module doc), `ψ'(g)` when
+    /// the ends coincide.
+    fn secant(&self, g0: f64, g1: f64) -> f64 {
+        let k = self.stiffness;
+        if g0 <= 0.0 && g1 <= 0.0 {
+            0.5 * k * (g0 + g1)
+        } else if g0 >= 0.0 && g1 >= 0.0 {
+            0.0
+        } else {
+            (self.density(g1) - self.density(g0)) / (g1 - g0)
+        }
+    }
+
+    /// The resultant in `+x` of the wall's force over a step from `u0` to `u1` as the scheme applies
+    /// it (the secant, or the end-point force with [`RigidWall::end_point`]) \[N\]: its product with
+    /// the step's length is the step's impulse.
+    pub fn step_force(&self, u0: &[f64], u1: &[f64]) -> f64 {
+        if self.end_point {
+            return self.normal_force(u1);
+        }
+        self.points
+            .iter()
+            .map(|p| -p.weight * self.secant(self.gap(p, u0), self.gap(p, u1)))
+            .sum()
+    }
+
+    /// Whether any point penetrates the wall.
+    pub fn in_contact(&self, u: &[f64]) -> bool {
+        self.points.iter().any(|p| self.gap(p, u) < 0.0)
+    }
+
+    /// The first time `s ∈ (0, h]` at which a point now apart reaches the wall along the free
+    /// flight `x(s) = x + s v + ½ s² a` of every point (the gap is quadratic in `s`), if any.
+    pub fn first_touch(&self, u: &[f64], v: &[f64], a: &[f64], h: f64) -> Option<f64> {
+        let mut first: Option<f64> = None;
+        for p in &self.points {
+            let g0 = self.gap(p, u);
+            if g0 <= 0.0 {
+                continue;
+            }
+            let at = |f: &[f64]| (0..3).map(|k| p.basis[k] * f[2 * p.nodes[k]]).sum::<f64>();
+            let (g1, g2) = (at(v), 0.5 * at(a));
+            // smallest positive root of g0 + g1 s + g2 s² (g0 > 0)
+            let root = if g2 == 0.0 {
+                (g1 < 0.0).then(|| -g0 / g1)
+            } else {
+                let disc = g1 * g1 - 4.0 * g2 * g0;
+                (disc >= 0.0)
+                    .then(|| {
+                        let q = -0.5 * (g1 + g1.signum() * disc.sqrt());
+                        [q / g2, g0 / q]
+                    })
+                    .and_then(|r| r.into_iter().filter(|s| *s > 0.0 && s.is_finite()).reduce(f64::min))
+            };
+            if let Some(s) = root.filter(|s| *s <= h) {
+                first = Some(first.map_or(s, |f: f64| f.min(s)));
+            }
+        }
+        first
+    }
+
+    /// The first fraction `s ∈ (0, 1]` of the straight path from `u0` (apart) to `u1` at which a
+    /// point reaches the wall, if any (the gap is linear in `u`).
+    pub fn first_crossing(&self, u0: &[f64], u1: &[f64]) -> Option<f64> {
+        self.points
+            .iter()
+            .filter_map(|p| {
+                let (g0, g1) = (self.gap(p, u0), self.gap(p, u1));
+                (g0 > 0.0 && g1 < 0.0).then(|| g0 / (g0 - g1))
+            })
+            .reduce(f64::min)
+    }
+
     /// The wall's force on the body, the resultant in `+x` \[N\].
     pub fn normal_force(&self, u: &[f64]) -> f64 {
         self.points
@@ -125,14 +202,14 @@ impl Term for RigidWall {
         "contact"
     }
 
-    fn energy(&self, u: &[f64], _t: f64) -> f64 {
+    fn energy(&self, u: &[f64], _cx: &StepContext) -> f64 {
         self.points
             .iter()
             .map(|p| p.weight * self.density(self.gap(p, u)))
             .sum()
     }
 
-    fn add_gradient(&self, u: &[f64], _t: f64, g: &mut [f64]) {
+    fn add_gradient(&self, u: &[f64], _cx: &StepContext, g: &mut [f64]) {
         for p in &self.points {
             let f = p.weight * self.stiffness * self.gap(p, u).min(0.0);
             for a in 0..3 {
@@ -141,7 +218,7 @@ impl Term for RigidWall {
         }
     }
 
-    fn add_hessian(&self, u: &[f64], _t: f64, pattern: &Pattern, values: &mut [f64]) {
+    fn add_hessian(&self, u: &[f64], _cx: &StepContext, pattern: &Pattern, values: &mut [f64]) {
         for p in &self.points {
             let active = if self.gap(p, u) < 0.0 { 1.0 } else { 0.0 };
             let c = active * p.weight * self.stiffness;
@@ -158,22 +235,27 @@ impl Term for RigidWall {
     }
 
     /// The secant of each point's energy along its gap (see the module doc).
-    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64 {
-        let k = self.stiffness;
+    /// With [`RigidWall::end_point`], the gradient at `u1` instead.
+    fn add_discrete_gradient(
+        &self,
+        start: &StepStart,
+        u1: &[f64],
+        cx: &StepContext,
+        factor: f64,
+        g: &mut [f64],
+    ) -> f64 {
         for p in &self.points {
             let (g0, g1) = (self.gap(p, start.u), self.gap(p, u1));
-            let secant = if g0 <= 0.0 && g1 <= 0.0 {
-                0.5 * k * (g0 + g1)
-            } else if g0 >= 0.0 && g1 >= 0.0 {
-                0.0
+            let secant = if self.end_point {
+                self.stiffness * g1.min(0.0)
             } else {
-                (self.density(g1) - self.density(g0)) / (g1 - g0)
+                self.secant(g0, g1)
             };
             let f = factor * p.weight * secant;
             for a in 0..3 {
                 g[2 * p.nodes[a]] += f * p.basis[a];
             }
         }
-        self.energy(u1, t1)
+        self.energy(u1, cx)
     }
 }

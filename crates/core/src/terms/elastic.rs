@@ -30,7 +30,7 @@
 
 use rayon::prelude::*;
 
-use super::{StepStart, Term};
+use super::{StepContext, StepStart, Term};
 use crate::assembly::{element_dofs, Pattern};
 use crate::fe::FeCache;
 use crate::material::{det, first_piola, green_strain, Material, StressTangent, VecF};
@@ -51,6 +51,9 @@ pub struct Elastic {
     pub triangles: Vec<[usize; 6]>,
     /// Reference data (degree-4 rule, weights carry the thickness).
     pub cache: FeCache,
+    /// Index of the first element among the elements of the pattern it assembles into (a body
+    /// after the first of a model starts after the elements of those before it).
+    pub first_element: usize,
 }
 
 /// Element results: energy, gradient (12), Hessian (144, row-major).
@@ -67,6 +70,7 @@ impl Elastic {
             material,
             triangles: mesh.triangles.clone(),
             cache,
+            first_element: 0,
         }
     }
 
@@ -231,7 +235,7 @@ impl Elastic {
                         g[*d] += gv;
                     }
                 }
-                pattern.scatter_element(e, &out.k, values);
+                pattern.scatter_element(self.first_element + e, &out.k, values);
             }
             start = end;
         }
@@ -253,6 +257,24 @@ pub fn deformation_gradient(nodes: &[usize; 6], grads: &[[f64; 2]; 6], u: &[f64]
     f
 }
 
+impl Elastic {
+    /// The start data of a discrete gradient ([`Term::discrete_start`]): `F` and `E` at every
+    /// quadrature point of `u0`.
+    fn start_data(&self, u0: &[f64]) -> Vec<f64> {
+        let nq = self.cache.points_per_element;
+        let mut out = vec![0.0; self.cache.weights.len() * START];
+        out.par_chunks_mut(nq * START).enumerate().for_each(|(e, chunk)| {
+            for q in 0..nq {
+                let f = self.deformation_gradient(e, q, u0);
+                let c = &mut chunk[q * START..(q + 1) * START];
+                c[..4].copy_from_slice(&f);
+                c[4..7].copy_from_slice(&green_strain(&f));
+            }
+        });
+        out
+    }
+}
+
 impl Term for Elastic {
     fn name(&self) -> &'static str {
         "elastic"
@@ -261,7 +283,7 @@ impl Term for Elastic {
     /// Element energies in parallel, summed in element order: rayon's parallel `sum` associates
     /// the terms as its work stealing happens to split them, which made the strain energy (and the
     /// line search that compares energies) differ in the last bits from run to run.
-    fn energy(&self, u: &[f64], _t: f64) -> f64 {
+    fn energy(&self, u: &[f64], _cx: &StepContext) -> f64 {
         let nq = self.cache.points_per_element;
         let mut energies = Vec::with_capacity(self.triangles.len());
         (0..self.triangles.len())
@@ -278,42 +300,39 @@ impl Term for Elastic {
         energies.iter().sum()
     }
 
-    fn add_gradient(&self, u: &[f64], _t: f64, g: &mut [f64]) {
+    fn add_gradient(&self, u: &[f64], _cx: &StepContext, g: &mut [f64]) {
         self.run_gradient(u, g);
     }
 
-    fn energy_gradient(&self, u: &[f64], _t: f64, g: &mut [f64]) -> f64 {
+    fn energy_gradient(&self, u: &[f64], _cx: &StepContext, g: &mut [f64]) -> f64 {
         self.run_gradient(u, g)
     }
 
-    fn add_hessian(&self, u: &[f64], _t: f64, pattern: &Pattern, values: &mut [f64]) {
+    fn add_hessian(&self, u: &[f64], _cx: &StepContext, pattern: &Pattern, values: &mut [f64]) {
         self.run(u, None, pattern, values);
     }
 
-    fn assemble(&self, u: &[f64], _t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
+    fn assemble(&self, u: &[f64], _cx: &StepContext, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
         self.run(u, Some(g), pattern, values)
     }
 
     /// Per quadrature point `F₀` and `E₀`.
-    fn discrete_start(&self, u0: &[f64], _t0: f64) -> Vec<f64> {
-        let nq = self.cache.points_per_element;
-        let mut out = vec![0.0; self.cache.weights.len() * START];
-        out.par_chunks_mut(nq * START).enumerate().for_each(|(e, chunk)| {
-            for q in 0..nq {
-                let f = self.deformation_gradient(e, q, u0);
-                let c = &mut chunk[q * START..(q + 1) * START];
-                c[..4].copy_from_slice(&f);
-                c[4..7].copy_from_slice(&green_strain(&f));
-            }
-        });
-        out
+    fn discrete_start(&self, cx: &StepContext) -> Vec<f64> {
+        self.start_data(cx.u0)
     }
 
-    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], _t1: f64, factor: f64, g: &mut [f64]) -> f64 {
+    fn add_discrete_gradient(
+        &self,
+        start: &StepStart,
+        u1: &[f64],
+        _cx: &StepContext,
+        factor: f64,
+        g: &mut [f64],
+    ) -> f64 {
         let data = if start.data.len() == self.cache.weights.len() * START {
             std::borrow::Cow::Borrowed(start.data)
         } else {
-            std::borrow::Cow::Owned(self.discrete_start(start.u, start.t))
+            std::borrow::Cow::Owned(self.start_data(start.u))
         };
         let chi = start.dissipation;
         self.gather(factor, g, |e| self.element_discrete(e, &data, u1, chi))

@@ -2,7 +2,7 @@
 //! height (`y = 0`). It is linear in `u`: `Π_g = E₀ + Σ_a w_a u_{a,y}` with `w_a = ρ t g ∫ N_a dA`
 //! and `E₀ = ρ t g ∫ Y dA`, both integrated once with the degree-6 rule (exact on curved P2 elements).
 
-use super::{StepStart, Term};
+use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
 use crate::fe::for_each_point;
 use crate::quadrature::TriangleRule;
@@ -41,22 +41,29 @@ impl Term for Gravity {
         "gravity"
     }
 
-    fn energy(&self, u: &[f64], _t: f64) -> f64 {
+    fn energy(&self, u: &[f64], _cx: &StepContext) -> f64 {
         self.reference_energy + self.load_gradient.iter().zip(u).map(|(w, x)| w * x).sum::<f64>()
     }
 
-    fn add_gradient(&self, _u: &[f64], _t: f64, g: &mut [f64]) {
+    fn add_gradient(&self, _u: &[f64], _cx: &StepContext, g: &mut [f64]) {
         g.iter_mut().zip(&self.load_gradient).for_each(|(gi, w)| *gi += w);
     }
 
-    fn add_hessian(&self, _u: &[f64], _t: f64, _pattern: &Pattern, _values: &mut [f64]) {}
+    fn add_hessian(&self, _u: &[f64], _cx: &StepContext, _pattern: &Pattern, _values: &mut [f64]) {}
 
     /// Linear in `u`: the discrete gradient is the gradient (exact energy change, and the moment of
     /// the weight at the mid-step positions is the exact mid-step value).
-    fn add_discrete_gradient(&self, _start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64 {
+    fn add_discrete_gradient(
+        &self,
+        _start: &StepStart,
+        u1: &[f64],
+        cx: &StepContext,
+        factor: f64,
+        g: &mut [f64],
+    ) -> f64 {
         g.iter_mut()
             .zip(&self.load_gradient)
             .for_each(|(gi, w)| *gi += factor * w);
-        self.energy(u1, t1)
+        self.energy(u1, cx)
     }
 }

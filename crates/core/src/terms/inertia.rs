@@ -4,7 +4,7 @@
 //! degree-6 rule (exact for curved P2 elements) and stored in the values layout of the fixed
 //! pattern. The step sets the predictor `ũ` and the factor `c` ([`crate::newmark`]).
 
-use super::{StepStart, Term};
+use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
 use crate::fe::for_each_point;
 use crate::quadrature::TriangleRule;
@@ -26,31 +26,47 @@ pub struct MassMatrix {
 impl MassMatrix {
     /// Assembles `∫ ρ t N_a N_b dA` (both components).
     pub fn new(mesh: &Mesh, pattern: &Pattern, rho: f64, thickness: f64) -> Self {
+        Self::of_bodies(
+            pattern,
+            &[BodyMass {
+                mesh,
+                first_element: 0,
+                density: rho,
+                thickness,
+            }],
+        )
+    }
+
+    /// Assembles the mass matrix of several bodies, each with its own density and thickness.
+    pub fn of_bodies(pattern: &Pattern, bodies: &[BodyMass]) -> Self {
         let mut values = vec![0.0; pattern.nnz()];
-        let mut ke = [0.0; 144];
         let rule = TriangleRule::degree6();
-        let mut current = usize::MAX;
-        let flush = |e: usize, ke: &mut [f64; 144], values: &mut [f64]| {
-            pattern.scatter_element(e, ke, values);
-            *ke = [0.0; 144];
-        };
-        for_each_point(mesh, &rule, |e, n, _x, w| {
-            if e != current {
-                if current != usize::MAX {
-                    flush(current, &mut ke, &mut values);
+        for body in bodies {
+            let (rho, thickness) = (body.density, body.thickness);
+            let mut ke = [0.0; 144];
+            let mut current = usize::MAX;
+            let flush = |e: usize, ke: &mut [f64; 144], values: &mut [f64]| {
+                pattern.scatter_element(body.first_element + e, ke, values);
+                *ke = [0.0; 144];
+            };
+            for_each_point(body.mesh, &rule, |e, n, _x, w| {
+                if e != current {
+                    if current != usize::MAX {
+                        flush(current, &mut ke, &mut values);
+                    }
+                    current = e;
                 }
-                current = e;
-            }
-            for a in 0..6 {
-                for b in 0..6 {
-                    let m = rho * thickness * n[a] * n[b] * w;
-                    ke[(2 * a) * 12 + 2 * b] += m;
-                    ke[(2 * a + 1) * 12 + 2 * b + 1] += m;
+                for a in 0..6 {
+                    for b in 0..6 {
+                        let m = rho * thickness * n[a] * n[b] * w;
+                        ke[(2 * a) * 12 + 2 * b] += m;
+                        ke[(2 * a + 1) * 12 + 2 * b + 1] += m;
+                    }
                 }
+            });
+            if current != usize::MAX {
+                flush(current, &mut ke, &mut values);
             }
-        });
-        if current != usize::MAX {
-            flush(current, &mut ke, &mut values);
         }
         // node-level copy from the x-x entries (even row, even column)
         let nodes = pattern.n / 2;
@@ -99,6 +115,20 @@ impl MassMatrix {
     }
 }
 
+/// One body's part of a [`MassMatrix`]: its elements (`mesh`, numbered from `first_element` in the
+/// pattern), its density \[kg/m³\] and thickness \[m\].
+#[derive(Clone, Copy, Debug)]
+pub struct BodyMass<'a> {
+    /// The body's elements over the model's node numbering.
+    pub mesh: &'a Mesh,
+    /// Index of the body's first element among the pattern's elements.
+    pub first_element: usize,
+    /// Mass density \[kg/m³\].
+    pub density: f64,
+    /// Thickness \[m\].
+    pub thickness: f64,
+}
+
 /// The inertia term of one step.
 #[derive(Clone, Debug)]
 pub struct Inertia<'m> {
@@ -129,37 +159,44 @@ impl Term for Inertia<'_> {
         "inertia"
     }
 
-    fn energy(&self, u: &[f64], _t: f64) -> f64 {
+    fn energy(&self, u: &[f64], _cx: &StepContext) -> f64 {
         self.force_and_energy(u).1
     }
 
-    fn add_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) {
-        self.energy_gradient(u, t, g);
+    fn add_gradient(&self, u: &[f64], cx: &StepContext, g: &mut [f64]) {
+        self.energy_gradient(u, cx, g);
     }
 
-    fn energy_gradient(&self, u: &[f64], _t: f64, g: &mut [f64]) -> f64 {
+    fn energy_gradient(&self, u: &[f64], _cx: &StepContext, g: &mut [f64]) -> f64 {
         let (force, energy) = self.force_and_energy(u);
         g.iter_mut().zip(&force).for_each(|(gi, f)| *gi += f);
         energy
     }
 
-    fn add_hessian(&self, _u: &[f64], _t: f64, _pattern: &Pattern, values: &mut [f64]) {
+    fn add_hessian(&self, _u: &[f64], _cx: &StepContext, _pattern: &Pattern, values: &mut [f64]) {
         values
             .iter_mut()
             .zip(&self.mass.values)
             .for_each(|(k, m)| *k += self.factor * m);
     }
 
-    fn assemble(&self, u: &[f64], t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
-        self.add_hessian(u, t, pattern, values);
-        self.energy_gradient(u, t, g)
+    fn assemble(&self, u: &[f64], cx: &StepContext, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
+        self.add_hessian(u, cx, pattern, values);
+        self.energy_gradient(u, cx, g)
     }
 
     /// Quadratic: the gradient at the midpoint `½(u₀ + u₁)` is an exact discrete gradient.
-    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64 {
+    fn add_discrete_gradient(
+        &self,
+        start: &StepStart,
+        u1: &[f64],
+        cx: &StepContext,
+        factor: f64,
+        g: &mut [f64],
+    ) -> f64 {
         let mid: Vec<f64> = start.u.iter().zip(u1).map(|(a, b)| 0.5 * (a + b)).collect();
         let (force, _) = self.force_and_energy(&mid);
         g.iter_mut().zip(&force).for_each(|(gi, f)| *gi += factor * f);
-        self.energy(u1, t1)
+        self.energy(u1, cx)
     }
 }

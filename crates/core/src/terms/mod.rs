@@ -1,4 +1,4 @@
-//! Physical effects as energy terms `Π_i(u, t)`.
+//! Physical effects as energy terms `Π_i(u, cx)`.
 //!
 //! The incremental potential of a time step is the sum of the inertia term and the terms here;
 //! the Newton solver sees only their sum. Each term gives its energy, adds its gradient into a
@@ -8,7 +8,13 @@
 //! entries at every call (zeros when inactive), so the symbolic factorisation stays valid.
 //!
 //! Energies are in joules, gradients in newtons, Hessians in N/m; `u` is the interleaved nodal
-//! displacement vector \[m\], `t` the time \[s\]. An energy of `+∞` marks an inadmissible state.
+//! displacement vector \[m\]. An energy of `+∞` marks an inadmissible state.
+//!
+//! **Step context.** Besides `u`, a term reads only its [`StepContext`]: the time of the evaluated
+//! state, the start of the step it belongs to (displacement, time, unwrapped proxy angle) and the
+//! inputs held over the step (the torque of [`crate::Simulation::set_torque`]). Terms keep no
+//! mutable state: a term is a function of `(u, context)`, so a snapshot of the stepper's state is
+//! all there is to save.
 //!
 //! **Discrete gradients.** The energy-momentum scheme ([`crate::energy_momentum`]) replaces the
 //! gradient at one end of a step by a *discrete gradient* `∇ᵈΠ(u₀, u₁)` over the step, with
@@ -42,26 +48,26 @@ pub trait Term: Send + Sync {
     /// Short name for reports.
     fn name(&self) -> &'static str;
 
-    /// `Π(u, t)` \[J\]; `+∞` for an inadmissible state.
-    fn energy(&self, u: &[f64], t: f64) -> f64;
+    /// `Π(u, cx)` \[J\]; `+∞` for an inadmissible state.
+    fn energy(&self, u: &[f64], cx: &StepContext) -> f64;
 
     /// `g += ∂Π/∂u`.
-    fn add_gradient(&self, u: &[f64], t: f64, g: &mut [f64]);
+    fn add_gradient(&self, u: &[f64], cx: &StepContext, g: &mut [f64]);
 
     /// `K += ∂²Π/∂u²` into the upper-triangle `values` of `pattern`.
-    fn add_hessian(&self, u: &[f64], t: f64, pattern: &Pattern, values: &mut [f64]);
+    fn add_hessian(&self, u: &[f64], cx: &StepContext, pattern: &Pattern, values: &mut [f64]);
 
     /// Energy and gradient in one pass (`g += ∂Π/∂u`; returns `Π`).
-    fn energy_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) -> f64 {
-        self.add_gradient(u, t, g);
-        self.energy(u, t)
+    fn energy_gradient(&self, u: &[f64], cx: &StepContext, g: &mut [f64]) -> f64 {
+        self.add_gradient(u, cx, g);
+        self.energy(u, cx)
     }
 
     /// Energy, gradient and Hessian in one pass (terms override this when fusing saves work).
-    fn assemble(&self, u: &[f64], t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
-        self.add_gradient(u, t, g);
-        self.add_hessian(u, t, pattern, values);
-        self.energy(u, t)
+    fn assemble(&self, u: &[f64], cx: &StepContext, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
+        self.add_gradient(u, cx, g);
+        self.add_hessian(u, cx, pattern, values);
+        self.energy(u, cx)
     }
 
     /// Entries `(row, col)` outside the element pattern that this term writes; called once.
@@ -69,27 +75,59 @@ pub trait Term: Send + Sync {
         Vec::new()
     }
 
-    /// Called by the simulation before every (sub)step attempt with the state `u` at the start of the
-    /// step (and before the initial equilibrium); a term may update internal reference data here
-    /// (the torque's branch of the hub angle). Default: nothing.
-    fn begin_step(&self, _u: &[f64], _t: f64) {}
-
-    /// The work \[J\] done on the body by this term's load over a step from `(u0, t0)` to `(u1, t1)`,
-    /// for external loads whose energy is not part of the reported total (the torque). Default: 0.
-    fn external_work(&self, _u0: &[f64], _t0: f64, _u1: &[f64], _t1: f64) -> f64 {
+    /// The work \[J\] done on the body by this term's load over the step from the context's start
+    /// (`cx.u0` at `cx.t0()`) to `(u1, cx.t)`, for external loads whose energy is not part of the
+    /// reported total (the torque). Default: 0.
+    fn external_work(&self, _u1: &[f64], _cx: &StepContext) -> f64 {
         0.0
     }
 
-    /// Data of the start of a step that [`Term::add_discrete_gradient`] reads on every call
-    /// (the elastic term's strains and energies at the quadrature points). Default: none.
-    fn discrete_start(&self, _u0: &[f64], _t0: f64) -> Vec<f64> {
+    /// Data of the start of a step (`cx.u0` at `cx.t0()`) that [`Term::add_discrete_gradient`] reads
+    /// on every call (the elastic term's strains and energies at the quadrature points). Default:
+    /// none.
+    fn discrete_start(&self, _cx: &StepContext) -> Vec<f64> {
         Vec::new()
     }
 
-    /// `g += factor · ∇ᵈΠ(u₀, u₁)`, a discrete gradient over the step from `start` to `(u1, t1)`
+    /// `g += factor · ∇ᵈΠ(u₀, u₁)`, a discrete gradient over the step from `start` to `(u1, cx.t)`
     /// (see the module doc). Returns `+∞` for an inadmissible `u1`, otherwise a finite value:
-    /// `Π(u1, t1)` where that costs nothing extra, 0 where it would (the strain energy).
-    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64;
+    /// `Π(u1)` where that costs nothing extra, 0 where it would (the strain energy).
+    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], cx: &StepContext, factor: f64, g: &mut [f64])
+        -> f64;
+}
+
+/// What a term reads besides the displacement it is evaluated at (see the module doc).
+#[derive(Clone, Copy, Debug)]
+pub struct StepContext<'a> {
+    /// Time of the evaluated state \[s\].
+    pub t: f64,
+    /// Length of the step \[s\] (0 for a state outside a step: the initial equilibrium, a report).
+    pub dt: f64,
+    /// Displacement at the start of the step \[m\].
+    pub u0: &'a [f64],
+    /// Proxy angle at the start of the step, unwrapped \[rad\]: the branch of angle-valued
+    /// quantities (the torque's hub angle) over the step.
+    pub theta0: f64,
+    /// The torque held as an input \[N m\] (`None`: the configured profile acts).
+    pub torque: Option<f64>,
+}
+
+impl<'a> StepContext<'a> {
+    /// The context of a state by itself: at time `t`, with `u` as its own start.
+    pub fn at(u: &'a [f64], t: f64, theta: f64, torque: Option<f64>) -> Self {
+        Self {
+            t,
+            dt: 0.0,
+            u0: u,
+            theta0: theta,
+            torque,
+        }
+    }
+
+    /// Time at the start of the step \[s\].
+    pub fn t0(&self) -> f64 {
+        self.t - self.dt
+    }
 }
 
 /// The start of a time step, as a discrete gradient needs it.
@@ -99,7 +137,7 @@ pub struct StepStart<'a> {
     pub u: &'a [f64],
     /// Time at the start \[s\].
     pub t: f64,
-    /// What the term's [`Term::discrete_start`] returned for `(u, t)`.
+    /// What the term's [`Term::discrete_start`] returned for the start.
     pub data: &'a [f64],
     /// Numerical dissipation `χ ∈ [0, 1)` of the strain energy (see [`crate::energy_momentum`]);
     /// other terms ignore it.
@@ -119,43 +157,50 @@ impl Term for Scaled<'_> {
         self.term.name()
     }
 
-    fn energy(&self, u: &[f64], t: f64) -> f64 {
-        self.factor * self.term.energy(u, t)
+    fn energy(&self, u: &[f64], cx: &StepContext) -> f64 {
+        self.factor * self.term.energy(u, cx)
     }
 
-    fn add_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) {
+    fn add_gradient(&self, u: &[f64], cx: &StepContext, g: &mut [f64]) {
         let mut own = vec![0.0; g.len()];
-        self.term.add_gradient(u, t, &mut own);
+        self.term.add_gradient(u, cx, &mut own);
         g.iter_mut().zip(&own).for_each(|(a, b)| *a += self.factor * b);
     }
 
-    fn energy_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) -> f64 {
+    fn energy_gradient(&self, u: &[f64], cx: &StepContext, g: &mut [f64]) -> f64 {
         let mut own = vec![0.0; g.len()];
-        let e = self.term.energy_gradient(u, t, &mut own);
+        let e = self.term.energy_gradient(u, cx, &mut own);
         g.iter_mut().zip(&own).for_each(|(a, b)| *a += self.factor * b);
         self.factor * e
     }
 
-    fn add_hessian(&self, u: &[f64], t: f64, pattern: &Pattern, values: &mut [f64]) {
+    fn add_hessian(&self, u: &[f64], cx: &StepContext, pattern: &Pattern, values: &mut [f64]) {
         let mut own = vec![0.0; values.len()];
-        self.term.add_hessian(u, t, pattern, &mut own);
+        self.term.add_hessian(u, cx, pattern, &mut own);
         values.iter_mut().zip(&own).for_each(|(a, b)| *a += self.factor * b);
     }
 
-    fn assemble(&self, u: &[f64], t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
+    fn assemble(&self, u: &[f64], cx: &StepContext, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
         let (mut own_g, mut own_k) = (vec![0.0; g.len()], vec![0.0; values.len()]);
-        let e = self.term.assemble(u, t, pattern, &mut own_g, &mut own_k);
+        let e = self.term.assemble(u, cx, pattern, &mut own_g, &mut own_k);
         g.iter_mut().zip(&own_g).for_each(|(a, b)| *a += self.factor * b);
         values.iter_mut().zip(&own_k).for_each(|(a, b)| *a += self.factor * b);
         self.factor * e
     }
 
-    fn discrete_start(&self, u0: &[f64], t0: f64) -> Vec<f64> {
-        self.term.discrete_start(u0, t0)
+    fn discrete_start(&self, cx: &StepContext) -> Vec<f64> {
+        self.term.discrete_start(cx)
     }
 
-    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64 {
-        self.factor * self.term.add_discrete_gradient(start, u1, t1, factor * self.factor, g)
+    fn add_discrete_gradient(
+        &self,
+        start: &StepStart,
+        u1: &[f64],
+        cx: &StepContext,
+        factor: f64,
+        g: &mut [f64],
+    ) -> f64 {
+        self.factor * self.term.add_discrete_gradient(start, u1, cx, factor * self.factor, g)
     }
 }
 
@@ -171,20 +216,27 @@ impl Term for Linear {
         "linear load"
     }
 
-    fn energy(&self, u: &[f64], _t: f64) -> f64 {
+    fn energy(&self, u: &[f64], _cx: &StepContext) -> f64 {
         self.gradient.iter().zip(u).map(|(f, x)| f * x).sum()
     }
 
-    fn add_gradient(&self, _u: &[f64], _t: f64, g: &mut [f64]) {
+    fn add_gradient(&self, _u: &[f64], _cx: &StepContext, g: &mut [f64]) {
         g.iter_mut().zip(&self.gradient).for_each(|(gi, f)| *gi += f);
     }
 
-    fn add_hessian(&self, _u: &[f64], _t: f64, _pattern: &Pattern, _values: &mut [f64]) {}
+    fn add_hessian(&self, _u: &[f64], _cx: &StepContext, _pattern: &Pattern, _values: &mut [f64]) {}
 
     /// A linear energy: the gradient itself.
-    fn add_discrete_gradient(&self, _start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64 {
+    fn add_discrete_gradient(
+        &self,
+        _start: &StepStart,
+        u1: &[f64],
+        cx: &StepContext,
+        factor: f64,
+        g: &mut [f64],
+    ) -> f64 {
         g.iter_mut().zip(&self.gradient).for_each(|(gi, f)| *gi += factor * f);
-        self.energy(u1, t1)
+        self.energy(u1, cx)
     }
 }
 
@@ -208,26 +260,26 @@ impl Term for DiscreteGradient<'_> {
         self.term.name()
     }
 
-    fn energy(&self, u: &[f64], t: f64) -> f64 {
-        self.term.energy(u, t)
+    fn energy(&self, u: &[f64], cx: &StepContext) -> f64 {
+        self.term.energy(u, cx)
     }
 
-    fn add_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) {
+    fn add_gradient(&self, u: &[f64], cx: &StepContext, g: &mut [f64]) {
         self.term
-            .add_discrete_gradient(&self.start, u, t, self.gradient_factor, g);
+            .add_discrete_gradient(&self.start, u, cx, self.gradient_factor, g);
     }
 
-    fn energy_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) -> f64 {
+    fn energy_gradient(&self, u: &[f64], cx: &StepContext, g: &mut [f64]) -> f64 {
         self.term
-            .add_discrete_gradient(&self.start, u, t, self.gradient_factor, g)
+            .add_discrete_gradient(&self.start, u, cx, self.gradient_factor, g)
     }
 
-    fn add_hessian(&self, u: &[f64], t: f64, pattern: &Pattern, values: &mut [f64]) {
+    fn add_hessian(&self, u: &[f64], cx: &StepContext, pattern: &Pattern, values: &mut [f64]) {
         if self.hessian_factor == 1.0 {
-            self.term.add_hessian(u, t, pattern, values);
+            self.term.add_hessian(u, cx, pattern, values);
         } else {
             let mut own = vec![0.0; values.len()];
-            self.term.add_hessian(u, t, pattern, &mut own);
+            self.term.add_hessian(u, cx, pattern, &mut own);
             values
                 .iter_mut()
                 .zip(&own)
@@ -235,12 +287,19 @@ impl Term for DiscreteGradient<'_> {
         }
     }
 
-    fn assemble(&self, u: &[f64], t: f64, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
-        self.add_hessian(u, t, pattern, values);
-        self.energy_gradient(u, t, g)
+    fn assemble(&self, u: &[f64], cx: &StepContext, pattern: &Pattern, g: &mut [f64], values: &mut [f64]) -> f64 {
+        self.add_hessian(u, cx, pattern, values);
+        self.energy_gradient(u, cx, g)
     }
 
-    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64 {
-        self.term.add_discrete_gradient(start, u1, t1, factor, g)
+    fn add_discrete_gradient(
+        &self,
+        start: &StepStart,
+        u1: &[f64],
+        cx: &StepContext,
+        factor: f64,
+        g: &mut [f64],
+    ) -> f64 {
+        self.term.add_discrete_gradient(start, u1, cx, factor, g)
     }
 }

@@ -52,10 +52,13 @@
 //!
 //! **Continuity.** `atan2` jumps at ±π, so `Π_τ` would jump by `2πM` when the pendulum turns
 //! through ±180°. `θ_hub` is evaluated relative to a reference angle `φ_ref` close to the current
-//! configuration: `(c, s)` is rotated by `−φ_ref`, `atan2` taken, `φ_ref` added back. The simulation
-//! calls [`Term::begin_step`] with the state at the start of every (sub)step attempt, which stores
-//! the unwrapped `θ_hub` of that state as the new `φ_ref`; within a step (rotations of much less than
-//! π) the energy is smooth. Gradient and Hessian do not depend on `φ_ref`.
+//! configuration: `(c, s)` is rotated by `−φ_ref`, `atan2` taken, `φ_ref` added back. `φ_ref` is
+//! `θ_hub` of the step's start state on the branch of the unwrapped proxy angle there, both from
+//! the [`StepContext`] (the term keeps no state); within a step (rotations of much less than π) the
+//! energy is smooth. Gradient and Hessian do not depend on `φ_ref`.
+//!
+//! **Input.** The torque's value is the held input of the context (`StepContext::torque`, set by
+//! [`crate::Simulation::set_torque`]) when there is one, else the profile's `M(t)`.
 //!
 //! ## Fixed-direction load (`follower = false`)
 //!
@@ -79,14 +82,12 @@
 //! the work by about `Δφ_end²/3` of it (`Δφ_end` the last rotation per step): negligible for a
 //! swinging pendulum, 1e-3 at `Δφ_end ≈ 0.055` rad per step.
 
-use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
-
-use super::{StepStart, Term};
+use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
 use crate::config;
 use crate::fe::for_each_edge_point;
 use crate::{Error, Mesh};
+use std::path::Path;
 
 /// `M(t)` \[N·m\], counter-clockwise positive.
 #[derive(Clone, Debug, PartialEq)]
@@ -399,20 +400,11 @@ pub struct Torque {
     pub hub: HubAngle,
     /// Global degrees of freedom of the hinge edge, `[2n, 2n+1]` per node of `hub.nodes`.
     pub dofs: Vec<usize>,
-    /// `φ_ref` as `f64` bits (interior mutability: [`Term`] is `Send + Sync`).
-    reference: AtomicU64,
 }
 
 impl Torque {
-    /// The torque of `profile` acting through boundary `name` of `mesh`; `reference_angle` \[rad\]
-    /// seeds `φ_ref` (the initial angle of the body, so that `θ_hub` starts on its branch).
-    pub fn new(
-        mesh: &Mesh,
-        name: &str,
-        profile: TorqueProfile,
-        mode: TorqueMode,
-        reference_angle: f64,
-    ) -> Result<Self, Error> {
+    /// The torque of `profile` acting through boundary `name` of `mesh`.
+    pub fn new(mesh: &Mesh, name: &str, profile: TorqueProfile, mode: TorqueMode) -> Result<Self, Error> {
         let hub = HubAngle::new(mesh, name)?;
         let dofs = hub.nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect();
         Ok(Self {
@@ -420,38 +412,38 @@ impl Torque {
             mode,
             hub,
             dofs,
-            reference: AtomicU64::new(reference_angle.to_bits()),
         })
     }
 
     /// The term described by the `[torque]` section (mode from `follower`).
-    pub fn from_config(mesh: &Mesh, name: &str, cfg: &config::Torque, reference_angle: f64) -> Result<Self, Error> {
+    pub fn from_config(mesh: &Mesh, name: &str, cfg: &config::Torque) -> Result<Self, Error> {
         let mode = if cfg.follower {
             TorqueMode::Follower
         } else {
             TorqueMode::Fixed
         };
-        Self::new(mesh, name, TorqueProfile::from_config(cfg)?, mode, reference_angle)
+        Self::new(mesh, name, TorqueProfile::from_config(cfg)?, mode)
     }
 
-    /// The current reference angle `φ_ref` \[rad\].
-    pub fn reference_angle(&self) -> f64 {
-        f64::from_bits(self.reference.load(Ordering::Relaxed))
+    /// The torque `M` \[N m\] at time `t` of the context's step: the held input, else the profile.
+    pub fn moment_at(&self, t: f64, cx: &StepContext) -> f64 {
+        cx.torque.unwrap_or_else(|| self.profile.value(t))
     }
 
-    /// Sets `φ_ref` \[rad\].
-    pub fn set_reference_angle(&self, phi: f64) {
-        self.reference.store(phi.to_bits(), Ordering::Relaxed);
+    /// `θ_hub` at the start of the context's step, on the branch of the unwrapped proxy angle
+    /// `cx.theta0` (`φ_ref` of the module doc) \[rad\].
+    pub fn start_angle(&self, cx: &StepContext) -> f64 {
+        self.hub.angle_near(cx.u0, cx.theta0)
     }
 
-    /// `θ_hub(u)` on the branch of the current `φ_ref` \[rad\].
-    pub fn hub_angle(&self, u: &[f64]) -> f64 {
-        self.hub.angle_near(u, self.reference_angle())
+    /// `θ_hub(u)` on the branch of the start of the context's step \[rad\].
+    pub fn hub_angle(&self, u: &[f64], cx: &StepContext) -> f64 {
+        self.hub.angle_near(u, self.start_angle(cx))
     }
 
-    /// The generalised force `f = −∂Π/∂u` on the hinge-edge degrees of freedom ([`Torque::dofs`]) \[N\].
-    pub fn local_force(&self, u: &[f64], t: f64) -> Vec<f64> {
-        let m = self.profile.value(t);
+    /// The generalised force `f = −∂Π/∂u` of a torque `m` \[N m\] on the hinge-edge degrees of
+    /// freedom ([`Torque::dofs`]) \[N\].
+    pub fn local_force(&self, u: &[f64], m: f64) -> Vec<f64> {
         match self.mode {
             TorqueMode::Follower => self.hub.gradient_local(u).into_iter().map(|g| m * g).collect(),
             TorqueMode::Fixed => self.hub.wx.iter().flat_map(|w| [0.0, m * w / self.hub.xx]).collect(),
@@ -459,8 +451,8 @@ impl Torque {
     }
 
     /// The moment about the pivot of the generalised force, `Σ_a x_a × f_a` with `x = X + u` \[N·m\].
-    pub fn moment_about_pivot(&self, u: &[f64], t: f64) -> f64 {
-        let f = self.local_force(u, t);
+    pub fn moment_about_pivot(&self, u: &[f64], m: f64) -> f64 {
+        let f = self.local_force(u, m);
         self.hub
             .nodes
             .iter()
@@ -473,13 +465,12 @@ impl Torque {
             .sum()
     }
 
-    /// `½ (M(t0) + M(t1)) (θ_hub(u1) − θ_hub(u0))` \[J\]: the work of the follower torque over a step
-    /// measured on the hub angle (`u0` on the branch of `φ_ref`, `u1` within π of `u0`).
-    pub fn angle_work(&self, u0: &[f64], t0: f64, u1: &[f64], t1: f64) -> f64 {
-        let phi = self.reference_angle();
-        let th0 = self.hub.angle_near(u0, phi);
+    /// `½ (M(t0) + M(t1)) (θ_hub(u1) − θ_hub(u0))` \[J\]: the work of the follower torque over the
+    /// context's step measured on the hub angle (`u1` within π of `u0`).
+    pub fn angle_work(&self, u1: &[f64], cx: &StepContext) -> f64 {
+        let th0 = self.start_angle(cx);
         let th1 = self.hub.angle_near(u1, th0);
-        0.5 * (self.profile.value(t0) + self.profile.value(t1)) * (th1 - th0)
+        0.5 * (self.moment_at(cx.t0(), cx) + self.moment_at(cx.t, cx)) * (th1 - th0)
     }
 }
 
@@ -488,10 +479,10 @@ impl Term for Torque {
         "torque"
     }
 
-    fn energy(&self, u: &[f64], t: f64) -> f64 {
-        let m = self.profile.value(t);
+    fn energy(&self, u: &[f64], cx: &StepContext) -> f64 {
+        let m = self.moment_at(cx.t, cx);
         match self.mode {
-            TorqueMode::Follower => -m * self.hub_angle(u),
+            TorqueMode::Follower => -m * self.hub_angle(u, cx),
             TorqueMode::Fixed => {
                 let uy: f64 = self
                     .hub
@@ -505,17 +496,17 @@ impl Term for Torque {
         }
     }
 
-    fn add_gradient(&self, u: &[f64], t: f64, g: &mut [f64]) {
-        for (d, f) in self.dofs.iter().zip(self.local_force(u, t)) {
+    fn add_gradient(&self, u: &[f64], cx: &StepContext, g: &mut [f64]) {
+        for (d, f) in self.dofs.iter().zip(self.local_force(u, self.moment_at(cx.t, cx))) {
             g[*d] -= f;
         }
     }
 
-    fn add_hessian(&self, u: &[f64], t: f64, pattern: &Pattern, values: &mut [f64]) {
+    fn add_hessian(&self, u: &[f64], cx: &StepContext, pattern: &Pattern, values: &mut [f64]) {
         if self.mode == TorqueMode::Fixed {
             return;
         }
-        let m = self.profile.value(t);
+        let m = self.moment_at(cx.t, cx);
         let (c, s) = self.hub.cos_sin(u);
         let r2 = c * c + s * s;
         let r4 = r2 * r2;
@@ -553,22 +544,26 @@ impl Term for Torque {
         e
     }
 
-    fn begin_step(&self, u: &[f64], _t: f64) {
-        self.set_reference_angle(self.hub_angle(u));
-    }
-
     /// Follower: `−M̄ ∇ᵈθ_hub` with `M̄ = ½(M(t₀) + M(t₁))` and the discrete gradient of the hub
     /// angle in the plane of `z = (c, s)` (Gonzalez's formula for the polar angle):
     /// `∇ᵈθ = ∇θ(z_m) + (Δθ − ∇θ(z_m)·Δz)/|Δz|² Δz`, `∇θ(z) = (−s, c)/|z|²`, so that
     /// `∇ᵈθ · Δz = Δθ` and the work is exactly `M̄ Δθ_hub` ([`Torque::angle_work`]); then
     /// `∂θ/∂u = a ∇c + b ∇s` as in [`HubAngle::gradient_local`]. Fixed direction: the mean of the
     /// two end loads (work `½(f₀ + f₁)·Δu`).
-    fn add_discrete_gradient(&self, start: &StepStart, u1: &[f64], t1: f64, factor: f64, g: &mut [f64]) -> f64 {
+    fn add_discrete_gradient(
+        &self,
+        start: &StepStart,
+        u1: &[f64],
+        cx: &StepContext,
+        factor: f64,
+        g: &mut [f64],
+    ) -> f64 {
         let u0 = start.u;
-        let m_mean = 0.5 * (self.profile.value(start.t) + self.profile.value(t1));
+        let (m0, m1) = (self.moment_at(start.t, cx), self.moment_at(cx.t, cx));
+        let m_mean = 0.5 * (m0 + m1);
         match self.mode {
             TorqueMode::Fixed => {
-                let (f0, f1) = (self.local_force(u0, start.t), self.local_force(u1, t1));
+                let (f0, f1) = (self.local_force(u0, m0), self.local_force(u1, m1));
                 for (k, &d) in self.dofs.iter().enumerate() {
                     g[d] -= factor * 0.5 * (f0[k] + f1[k]);
                 }
@@ -597,15 +592,16 @@ impl Term for Torque {
                 }
             }
         }
-        self.energy(u1, t1)
+        self.energy(u1, cx)
     }
 
-    fn external_work(&self, u0: &[f64], t0: f64, u1: &[f64], t1: f64) -> f64 {
+    fn external_work(&self, u1: &[f64], cx: &StepContext) -> f64 {
         if self.mode == TorqueMode::Follower {
-            return self.angle_work(u0, t0, u1, t1);
+            return self.angle_work(u1, cx);
         }
-        let f0 = self.local_force(u0, t0);
-        let f1 = self.local_force(u1, t1);
+        let u0 = cx.u0;
+        let f0 = self.local_force(u0, self.moment_at(cx.t0(), cx));
+        let f1 = self.local_force(u1, self.moment_at(cx.t, cx));
         self.dofs
             .iter()
             .enumerate()

@@ -1,0 +1,217 @@
+//! Bodies: a model is a list of bodies, each a part of the mesh with its own material, density and
+//! thickness, its own strain-energy and gravity terms, and fixed (Dirichlet) edges.
+//!
+//! The first body is the pendulum (the hinge, the proxy angle θ, the torque act on it). Further
+//! bodies ([`BodySpec`]: the wall block of the contact tutorial, a block in a test) are meshed
+//! separately and appended: the model's mesh holds every body's nodes, body after body, and every
+//! body's elements, body after body, so one sparsity pattern and one symbolic factorisation serve
+//! the coupled system. Each [`Body`] keeps a view of the model's mesh with only its own elements
+//! and boundary edges over the model's node numbering; its terms are built on that view and
+//! assemble into the shared pattern from their [`Body::first_element`] on.
+//!
+//! Fixed edges hold both components of every node on them at zero. They are imposed after
+//! assembly ([`crate::assembly::Dirichlet`]), so the pattern is the same with or without them.
+
+use std::ops::Range;
+
+use crate::config::{self, Config};
+use crate::fe::FeCache;
+use crate::material::Material;
+use crate::mesh::{BoundaryEdge, Mesh};
+use crate::post::{NodalStress, StressRecovery};
+use crate::quadrature::TriangleRule;
+use crate::terms::{Elastic, Gravity};
+use crate::Error;
+
+/// A body to add to a model after the pendulum.
+#[derive(Clone, Debug)]
+pub struct BodySpec {
+    /// Name (for reports and output blocks).
+    pub name: String,
+    /// Its own mesh (own node numbering; appended to the model's).
+    pub mesh: Mesh,
+    /// Constitutive law and density.
+    pub material: config::Material,
+    /// Thickness \[m\].
+    pub thickness: f64,
+    /// Whether gravity (`gravity.g` of the configuration) acts on it.
+    pub gravity: bool,
+    /// Names of its boundaries whose nodes are held fixed.
+    pub fixed: Vec<String>,
+}
+
+/// One body of a model (see the module doc).
+pub struct Body {
+    /// Name.
+    pub name: String,
+    /// The body's elements and boundary edges over the model's nodes (node indices of the model,
+    /// element indices of the body, boundary names of the model).
+    pub mesh: Mesh,
+    /// The body's nodes in the model's numbering.
+    pub nodes: Range<usize>,
+    /// Index of its first element among the model's elements.
+    pub first_element: usize,
+    /// Constitutive law.
+    pub material: Material,
+    /// Mass density \[kg/m³\].
+    pub density: f64,
+    /// Thickness \[m\].
+    pub thickness: f64,
+    /// Strain energy.
+    pub elastic: Elastic,
+    /// Gravity (a zero load when gravity does not act on the body).
+    pub gravity: Gravity,
+    /// Stresses at its nodes.
+    pub stress: StressRecovery,
+    /// Its fixed degrees of freedom (model numbering).
+    pub fixed_dofs: Vec<usize>,
+}
+
+/// What a body is made of: material, thickness \[m\], gravity \[m/s²\], fixed boundaries.
+struct Makeup<'a> {
+    material: &'a config::Material,
+    thickness: f64,
+    g: f64,
+    fixed: &'a [String],
+}
+
+impl Body {
+    /// Builds a body on its `view` of the model's mesh.
+    fn new(name: &str, view: Mesh, nodes: Range<usize>, first_element: usize, makeup: Makeup) -> Result<Self, Error> {
+        let Makeup {
+            material,
+            thickness,
+            g,
+            fixed,
+        } = makeup;
+        let law = Material::from_config(material);
+        let cache = FeCache::new(&view, &TriangleRule::degree4(), thickness)?;
+        let mut elastic = Elastic::new(law, &view, cache);
+        elastic.first_element = first_element;
+        let gravity = Gravity::new(&view, material.density, thickness, g);
+        let stress = StressRecovery::new(&view)?;
+        let mut fixed_dofs = Vec::new();
+        for boundary in fixed {
+            let on = view.nodes_on(boundary);
+            if on.is_empty() {
+                return Err(Error::Config(format!(
+                    "body \"{name}\": no boundary named \"{boundary}\" to hold fixed (its boundaries: {})",
+                    view.boundary_names.join(", ")
+                )));
+            }
+            fixed_dofs.extend(on.iter().flat_map(|&n| [2 * n, 2 * n + 1]));
+        }
+        Ok(Self {
+            name: name.to_string(),
+            mesh: view,
+            nodes,
+            first_element,
+            material: law,
+            density: material.density,
+            thickness,
+            elastic,
+            gravity,
+            stress,
+            fixed_dofs,
+        })
+    }
+
+    /// Nodal stresses of the body (zeros at the nodes of other bodies).
+    pub fn nodal_stress(&self, u: &[f64]) -> NodalStress {
+        self.stress.nodal(&self.material, u)
+    }
+}
+
+/// The model's mesh of the pendulum `first` and the `others` appended, and the bodies on it.
+pub(super) fn build(config: &Config, first: Mesh, others: &[BodySpec]) -> Result<(Mesh, Vec<Body>), Error> {
+    let g = config.gravity.g;
+    let mut model_mesh = first;
+    let mut parts = vec![(
+        model_mesh.region_name.clone(),
+        0..model_mesh.num_nodes(),
+        0..model_mesh.triangles.len(),
+        0..model_mesh.boundary_edges.len(),
+    )];
+    for spec in others {
+        let (nodes, elements, edges) = append(&mut model_mesh, &spec.mesh);
+        parts.push((spec.name.clone(), nodes, elements, edges));
+    }
+    let mut bodies = Vec::with_capacity(parts.len());
+    for (k, (name, nodes, elements, edges)) in parts.into_iter().enumerate() {
+        let view = view_of(&model_mesh, &name, elements.clone(), edges);
+        let body = if k == 0 {
+            let makeup = Makeup {
+                material: &config.material,
+                thickness: config.geometry.thickness,
+                g,
+                fixed: &[],
+            };
+            Body::new(&name, view, nodes, 0, makeup)?
+        } else {
+            let spec = &others[k - 1];
+            let g = if spec.gravity { g } else { 0.0 };
+            let makeup = Makeup {
+                material: &spec.material,
+                thickness: spec.thickness,
+                g,
+                fixed: &spec.fixed,
+            };
+            Body::new(&name, view, nodes, elements.start, makeup)?
+        };
+        bodies.push(body);
+    }
+    Ok((model_mesh, bodies))
+}
+
+/// Appends `other` to `mesh` (its nodes after `mesh`'s, its elements after `mesh`'s, its boundary
+/// names merged by name); returns the ranges of its nodes, elements and boundary edges.
+fn append(mesh: &mut Mesh, other: &Mesh) -> (Range<usize>, Range<usize>, Range<usize>) {
+    let (n0, e0, b0) = (mesh.nodes.len(), mesh.triangles.len(), mesh.boundary_edges.len());
+    mesh.nodes.extend_from_slice(&other.nodes);
+    mesh.num_vertices += other.num_vertices;
+    mesh.triangles.extend(other.triangles.iter().map(|t| t.map(|n| n + n0)));
+    let names: Vec<usize> = other
+        .boundary_names
+        .iter()
+        .map(|name| match mesh.boundary_id(name) {
+            Some(id) => id,
+            None => {
+                mesh.boundary_names.push(name.clone());
+                mesh.boundary_names.len() - 1
+            }
+        })
+        .collect();
+    mesh.boundary_edges
+        .extend(other.boundary_edges.iter().map(|e| BoundaryEdge {
+            nodes: e.nodes.map(|n| n + n0),
+            name: names[e.name],
+            triangle: e.triangle + e0,
+            local_edge: e.local_edge,
+        }));
+    (
+        n0..mesh.nodes.len(),
+        e0..mesh.triangles.len(),
+        b0..mesh.boundary_edges.len(),
+    )
+}
+
+/// The view of one body: every node of `mesh`, the body's elements and boundary edges (their
+/// element indices counted within the body).
+fn view_of(mesh: &Mesh, name: &str, elements: Range<usize>, edges: Range<usize>) -> Mesh {
+    let e0 = elements.start;
+    Mesh {
+        nodes: mesh.nodes.clone(),
+        num_vertices: mesh.num_vertices,
+        triangles: mesh.triangles[elements].to_vec(),
+        boundary_edges: mesh.boundary_edges[edges]
+            .iter()
+            .map(|e| BoundaryEdge {
+                triangle: e.triangle - e0,
+                ..*e
+            })
+            .collect(),
+        boundary_names: mesh.boundary_names.clone(),
+        region_name: name.to_string(),
+        order: mesh.order,
+    }
+}
