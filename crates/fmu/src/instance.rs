@@ -273,7 +273,7 @@ impl Instance {
             return Err(format!("wall_x = {w}: allowed a finite value (m)"));
         }
         let t = self.value_of(Role::ThetaStart);
-        if !(t.abs() <= 2.0 * std::f64::consts::PI) {
+        if !(-2.0 * std::f64::consts::PI..=2.0 * std::f64::consts::PI).contains(&t) {
             return Err(format!("theta_start = {t}: allowed -2 pi to 2 pi rad"));
         }
         Ok(())
@@ -406,7 +406,9 @@ impl Instance {
                 "fmi2DoStep at t = {now} s: communicationStepSize = {h} s must be >= 0"
             ));
         }
-        if !((t - now).abs() <= TIME_TOLERANCE * now.abs().max(1.0)) {
+        // NaN is never within
+        let within = (t - now).abs() <= TIME_TOLERANCE * now.abs().max(1.0);
+        if !within {
             return self.error(&format!(
                 "fmi2DoStep: currentCommunicationPoint = {t} s is not the FMU's time {now} s (tolerance {TIME_TOLERANCE} relative)"
             ));
