@@ -19,7 +19,7 @@
 
 use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot};
 
-use crate::contact::{contact_outputs, ContactOutputs};
+use crate::contact::contact_outputs;
 use crate::variables::{Causality, Kind, Output, Role, Variable, VARIABLES};
 
 /// FMI 2.0 status codes.
@@ -136,7 +136,12 @@ pub struct Instance {
     impact: bool,
     /// The internal step of the last `doStep` \[s\] (see [`Instance::internal_steps`]).
     last_internal_step: Option<f64>,
+    /// Outputs computed for the current state, by [`Output`] as index.
+    cache: [Option<f64>; OUTPUTS],
 }
+
+/// The number of [`Output`]s.
+const OUTPUTS: usize = 8;
 
 /// Relative distance below which a communication step counts as a multiple of
 /// `max_internal_step`, or an internal step as the previous one ([`Instance::internal_steps`]).
@@ -160,6 +165,7 @@ impl Instance {
             contact_count: 0,
             impact: false,
             last_internal_step: None,
+            cache: [None; OUTPUTS],
         }
     }
 
@@ -305,6 +311,7 @@ impl Instance {
                     sim.theta()
                 ));
                 self.sim = Some(sim);
+                self.invalidate();
                 self.stale = false;
                 Ok(())
             }
@@ -317,6 +324,7 @@ impl Instance {
 
     /// Sets values by value reference (`fmi2SetReal`, `…Integer`, `…Boolean`).
     pub fn set(&mut self, kind: Kind, vrs: &[u32], values: &[f64]) -> Status {
+        self.invalidate();
         for (&vr, &value) in vrs.iter().zip(values) {
             let Some((i, v)) = crate::variables::lookup(vr, kind) else {
                 return self.error(&format!("set: no {kind:?} variable with value reference {vr}"));
@@ -355,44 +363,58 @@ impl Instance {
 
     /// Reads values by value reference (`fmi2GetReal`, `…Integer`, `…Boolean`) into `out`.
     pub fn get(&mut self, kind: Kind, vrs: &[u32], out: &mut [f64]) -> Status {
-        let mut outputs: Option<Outputs> = None;
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
             let Some((i, v)) = crate::variables::lookup(vr, kind) else {
                 return self.error(&format!("get: no {kind:?} variable with value reference {vr}"));
             };
             *slot = match v.role {
-                Role::Output(which) => {
-                    if outputs.is_none() {
-                        match self.outputs() {
-                            Ok(o) => outputs = Some(o),
-                            Err(status) => return status,
-                        }
-                    }
-                    outputs.as_ref().expect("set above").value(which)
-                }
+                Role::Output(which) => match self.output(which) {
+                    Ok(value) => value,
+                    Err(status) => return status,
+                },
                 _ => self.values[i],
             };
         }
         Status::Ok
     }
 
-    /// Every output of the current state.
-    fn outputs(&mut self) -> Result<Outputs, Status> {
+    /// One output of the current state, computed on the first request after a change of the state
+    /// (a step, a torque input, a restored state) and kept until the next: a master that reads
+    /// every output with three calls (Real, Integer, Boolean) pays for each once.
+    fn output(&mut self, which: Output) -> Result<f64, Status> {
+        if let Some(value) = self.cache[which as usize] {
+            return Ok(value);
+        }
         if self.phase == Phase::Instantiated {
             return Err(self.error("get: outputs are available from fmi2EnterInitializationMode on"));
         }
         self.ensure_sim()?;
         let wall_x = self.value_of(Role::WallX);
+        let (count, impact) = (self.contact_count, self.impact);
         let sim = self.sim.as_mut().expect("built above");
-        let (omega, alpha) = sim.angular_rates();
-        let contact = contact_outputs(sim, wall_x, self.contact_count, self.impact);
-        Ok(Outputs {
-            theta: sim.theta(),
-            omega,
-            alpha,
-            total_energy: sim.energies().total,
-            contact,
-        })
+        let cache = &mut self.cache;
+        match which {
+            Output::Theta => cache[Output::Theta as usize] = Some(sim.theta()),
+            Output::Omega | Output::Alpha => {
+                let (omega, alpha) = sim.angular_rates();
+                cache[Output::Omega as usize] = Some(omega);
+                cache[Output::Alpha as usize] = Some(alpha);
+            }
+            Output::TotalEnergy => cache[Output::TotalEnergy as usize] = Some(sim.energies().total),
+            Output::Gap | Output::ContactForce | Output::ContactCount | Output::Impact => {
+                let c = contact_outputs(sim, wall_x, count, impact);
+                cache[Output::Gap as usize] = Some(c.gap);
+                cache[Output::ContactForce as usize] = Some(c.force);
+                cache[Output::ContactCount as usize] = Some(f64::from(c.count));
+                cache[Output::Impact as usize] = Some(f64::from(u8::from(c.impact)));
+            }
+        }
+        Ok(self.cache[which as usize].expect("computed above"))
+    }
+
+    /// Forgets the computed outputs (the state or an input changed).
+    fn invalidate(&mut self) {
+        self.cache = [None; OUTPUTS];
     }
 
     /// `fmi2DoStep(t, h)` (see the module doc).
@@ -436,6 +458,7 @@ impl Instance {
         self.last_internal_step = Some(sub);
         // no wall yet: no impact can start (see crate::contact)
         self.impact = false;
+        self.invalidate();
         Status::Ok
     }
 
@@ -489,6 +512,7 @@ impl Instance {
         self.contact_count = state.contact_count;
         self.impact = state.impact;
         self.last_internal_step = state.last_internal_step;
+        self.invalidate();
         if self.phase == Phase::Instantiated || self.phase == Phase::Initialization {
             self.phase = Phase::StepMode;
         }
@@ -503,29 +527,5 @@ impl Instance {
     /// The variable table entry named `name` (for tests).
     pub fn variable(name: &str) -> Option<&'static Variable> {
         crate::variables::by_name(name)
-    }
-}
-
-/// Every output of one state.
-struct Outputs {
-    theta: f64,
-    omega: f64,
-    alpha: f64,
-    total_energy: f64,
-    contact: ContactOutputs,
-}
-
-impl Outputs {
-    fn value(&self, which: Output) -> f64 {
-        match which {
-            Output::Theta => self.theta,
-            Output::Omega => self.omega,
-            Output::Alpha => self.alpha,
-            Output::TotalEnergy => self.total_energy,
-            Output::Gap => self.contact.gap,
-            Output::ContactForce => self.contact.force,
-            Output::ContactCount => f64::from(self.contact.count),
-            Output::Impact => f64::from(u8::from(self.contact.impact)),
-        }
     }
 }
