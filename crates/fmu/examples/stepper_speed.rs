@@ -48,7 +48,11 @@ fn main() {
             println!(
                 "bare stepper dt = {dt} s, {}: {steps} steps, best of {repeats}: wall {best_wall:.3} s \
                  (real-time factor {:.2}, {:.3} ms/step), CPU {best_cpu:.2} s",
-                if read_outputs { "every output read" } else { "stepping only" },
+                if read_outputs {
+                    "every output read"
+                } else {
+                    "stepping only"
+                },
                 seconds / best_wall,
                 1e3 * best_wall / steps as f64,
             );

@@ -167,3 +167,8 @@ fn syssimx_pd_loop_settles_on_the_static_balance_and_rolls_back_exactly() {
         ],
     );
 }
+
+#[test]
+fn errors_reach_the_importer_as_fmi2error_with_a_logged_reason() {
+    run_script("errors_through_c.py", &[fmu().display().to_string()]);
+}

@@ -135,7 +135,9 @@ fn a_long_communication_step_equals_its_internal_steps() {
 
 #[test]
 fn a_failed_step_is_an_error_naming_time_and_cause_and_changes_nothing() {
-    // one Newton iteration and no cut-back cannot converge a step of a swinging pendulum
+    // with one Newton iteration and no cut-back the first internal step still converges (the start
+    // is in equilibrium and the rotational guess is close), a later one does not: the state goes
+    // back to before the whole communication step
     let (mut inst, log) = started(&[("solver_max_iterations", 1.0), ("solver_max_cutbacks", 0.0)]);
     let before = outputs(&mut inst);
     assert_eq!(inst.do_step(0.0, 0.03), Status::Error);
@@ -143,7 +145,8 @@ fn a_failed_step_is_an_error_naming_time_and_cause_and_changes_nothing() {
     assert_eq!(inst.time(), 0.0);
     let messages = log.borrow();
     let (_, m) = messages.last().expect("a message");
-    assert!(m.contains("t = 0 s") && m.contains("Newton"), "{m}");
+    assert!(m.contains("from t = 0 s") && m.contains("Newton"), "{m}");
+    assert!(m.contains("internal step 2 of 3") && m.contains("at t = 0.01 s"), "{m}");
 }
 
 #[test]
