@@ -1,5 +1,5 @@
 //! One FMU instance in safe Rust: parameter and input values, the simulation built from them, the
-//! FMI 2.0 Co-Simulation state machine, `doStep`, and FMU states. The C interface ([`crate::ffi`])
+//! FMI 2.0 Co-Simulation state machine, `doStep`, and FMU states. The C interface (module `ffi`)
 //! only converts arguments and catches panics; everything an FMI call means happens here.
 //!
 //! * **Parameters** (table [`VARIABLES`]) are applied as configuration overrides by name, with
