@@ -25,13 +25,10 @@ fn workspace_root() -> PathBuf {
         .expect("the workspace root exists")
 }
 
-/// A scratch folder for this test binary's files.
+/// A scratch folder for this test binary's files (next to it; the next run overwrites them).
 fn scratch() -> PathBuf {
     let exe = std::env::current_exe().expect("test executable path");
-    let dir = exe
-        .parent()
-        .expect("deps folder")
-        .join(format!("fmu-test-{}", std::process::id()));
+    let dir = exe.parent().expect("deps folder").join("fmu-test");
     std::fs::create_dir_all(&dir).expect("scratch folder");
     dir
 }

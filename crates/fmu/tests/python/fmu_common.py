@@ -1,6 +1,7 @@
 """Helpers shared by the FMU test scripts: open the FMU with fmpy, capture its log messages,
 drive an instance step by step, and report a result as one JSON line on stdout."""
 
+import atexit
 import json
 import shutil
 import sys
@@ -17,6 +18,7 @@ class Fmu:
         self.path = path
         self.md = read_model_description(path)
         self.dir = extract(path, unzipdir=tempfile.mkdtemp(prefix="pendulum-fmu-"))
+        atexit.register(shutil.rmtree, self.dir, True)
         self.vars = {v.name: v for v in self.md.modelVariables}
         self.reals = [v.name for v in self.md.modelVariables if v.causality == "output" and v.type == "Real"]
         self.ints = [v.name for v in self.md.modelVariables if v.causality == "output" and v.type == "Integer"]

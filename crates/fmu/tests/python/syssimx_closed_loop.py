@@ -14,6 +14,7 @@ import sys
 
 import numpy as np
 from syssimx import Connection, CoSimComponent, PortSpec, PortType, System
+from syssimx.components.fmu import clear_extraction_cache
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "python"))
 from syssimx_pendulum import PendulumFMU  # noqa: E402
@@ -96,6 +97,9 @@ th = THETA_REF
 for _ in range(50):
     f = KP * (THETA_REF - th) - m * G * (d * math.sin(th) + e * math.cos(th))
     th -= f / (-KP - m * G * (d * math.cos(th) - e * math.sin(th)))
+pendulum.free()
+clear_extraction_cache()
+
 settled = times >= 2.0 - 1e-9
 err = float(np.max(np.abs(theta[settled] - th)))
 report(rollback_identical and err <= 1e-4 and settled.sum() >= 100, theta_balance_rad=th,
