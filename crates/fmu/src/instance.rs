@@ -249,11 +249,6 @@ impl Instance {
         let mut sets = vec![
             "torque.profile=\"constant\"".to_string(),
             "torque.amplitude=0.0".to_string(),
-            // the FMU writes no files; keep the configuration free of output work
-            "output.plots=false".to_string(),
-            "output.animation=false".to_string(),
-            "output.paraview=false".to_string(),
-            "output.viewer=false".to_string(),
         ];
         for (v, &value) in VARIABLES.iter().zip(&self.values) {
             match v.role {
