@@ -1,0 +1,51 @@
+//! The wall and contact outputs (`gap`, `contact_force`, `contact_count`, `impact`), read in one
+//! place: [`contact_outputs`].
+//!
+//! With a wall (`wall_kind` 1), they are the stepper's: the smallest gap of the head's arc to the
+//! face and the wall's normal force ([`pendulum_fem::terms::RigidWall`]), and the impacts the
+//! stepper counted (an impact counts when the head first penetrates). Without one, `gap` is the
+//! distance of the deformed head to the plane `x = wall_x` and nothing touches.
+
+use pendulum_fem::Simulation;
+
+/// The boundary of the mesh that faces the wall: the outer circle of the head.
+pub const HEAD_BOUNDARY: &str = "contact_head";
+
+/// The contact outputs of one state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactOutputs {
+    /// Smallest signed distance from the head to the wall face \[m\]; negative: penetration.
+    pub gap: f64,
+    /// Normal force of the wall on the head \[N\] (0 without a wall).
+    pub force: f64,
+    /// Impacts so far.
+    pub count: i32,
+    /// An impact started during the last `doStep` (the flag the instance holds).
+    pub impact: bool,
+}
+
+/// The contact outputs of the current state of `sim`; `impact` is the instance's flag.
+pub fn contact_outputs(sim: &Simulation, impact: bool) -> ContactOutputs {
+    let u = sim.displacement();
+    let count = sim.impacts() as i32;
+    if let Some(wall) = &sim.model.wall {
+        return ContactOutputs {
+            gap: wall.smallest_gap(u),
+            force: wall.normal_force(u),
+            count,
+            impact,
+        };
+    }
+    let mesh = &sim.model.mesh;
+    let head_min_x = mesh
+        .edges_named(HEAD_BOUNDARY)
+        .flat_map(|e| e.nodes)
+        .map(|n| mesh.nodes[n][0] + u[2 * n])
+        .fold(f64::INFINITY, f64::min);
+    ContactOutputs {
+        gap: head_min_x - sim.model.config.wall.x,
+        force: 0.0,
+        count,
+        impact,
+    }
+}

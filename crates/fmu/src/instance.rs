@@ -1,0 +1,532 @@
+//! One FMU instance in safe Rust: parameter and input values, the simulation built from them, the
+//! FMI 2.0 Co-Simulation state machine, `doStep`, and FMU states. The C interface (module `ffi`)
+//! only converts arguments and catches panics; everything an FMI call means happens here.
+//!
+//! * **Parameters** (table [`VARIABLES`]) are applied as configuration overrides by name, with
+//!   `[torque] profile = "constant", amplitude = 0` declared so that `tau` is an input of the
+//!   stepper ([`Instance::config`]). The simulation is built when first needed (an output read in
+//!   initialisation mode, or `fmi2ExitInitializationMode`) and built again if a parameter changed
+//!   meanwhile; an invalid parameter fails there with the configuration's message naming the key.
+//! * **`doStep(t, h)`**: the master's `t` is accepted when it is within 1e-6 (relative, at least
+//!   1e-6 s absolute) of the FMU's time; the FMU keeps its own clock. `h = 0` refreshes the outputs.
+//!   Otherwise `h` is split into `n = ⌈h / max_internal_step⌉` equal internal steps, so with
+//!   `h = max_internal_step` it is one `Simulation::step(h)`, bit for bit the CLI's step (a master's
+//!   rounding of `h` is absorbed: [`Instance::internal_steps`]). A failed
+//!   internal step leaves the state as it was before the whole `doStep` (a snapshot taken before a
+//!   multi-step `doStep` is restored; a single step is rolled back by the stepper itself).
+//! * **FMU states** ([`FmuState`]) are a [`Snapshot`] plus the held input and the contact counters;
+//!   serialised as the snapshot's bytes behind a small header ([`FmuState::to_bytes`]).
+
+use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot};
+
+use crate::contact::contact_outputs;
+use crate::variables::{Causality, Kind, Output, Role, Variable, VARIABLES};
+
+/// FMI 2.0 status codes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(i32)]
+pub enum Status {
+    /// `fmi2OK`.
+    Ok = 0,
+    /// `fmi2Warning`.
+    Warning = 1,
+    /// `fmi2Discard`.
+    Discard = 2,
+    /// `fmi2Error`.
+    Error = 3,
+    /// `fmi2Fatal`.
+    Fatal = 4,
+    /// `fmi2Pending`.
+    Pending = 5,
+}
+
+/// Where an instance is in the FMI 2.0 Co-Simulation state machine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// After `fmi2Instantiate` (or `fmi2Reset`).
+    Instantiated,
+    /// Between `fmi2EnterInitializationMode` and `fmi2ExitInitializationMode`.
+    Initialization,
+    /// Stepping.
+    StepMode,
+    /// After `fmi2Terminate`.
+    Terminated,
+}
+
+/// Receives log messages: `(status, category, message)`.
+pub type LogSink = Box<dyn Fn(Status, &str, &str)>;
+
+/// The state of an instance that `fmi2GetFMUstate` saves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FmuState {
+    /// The simulation's complete state.
+    pub snapshot: Snapshot,
+    /// The held torque input \[N m\].
+    pub tau: f64,
+    /// Impacts so far.
+    pub contact_count: i32,
+    /// An impact started during the last step.
+    pub impact: bool,
+    /// The internal step of the last `doStep` \[s\] (it decides the next one's rounding).
+    pub last_internal_step: Option<f64>,
+}
+
+const STATE_MAGIC: &[u8; 8] = b"PFEMFMU1";
+
+impl FmuState {
+    /// `"PFEMFMU1"`, `tau` (f64 bits), `contact_count` (i32), `impact` (u8), the last internal
+    /// step (f64 bits; NaN for none), then [`Snapshot::to_bytes`] (which carries its own checksum);
+    /// little-endian.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut b = STATE_MAGIC.to_vec();
+        b.extend_from_slice(&self.tau.to_bits().to_le_bytes());
+        b.extend_from_slice(&self.contact_count.to_le_bytes());
+        b.push(u8::from(self.impact));
+        let last = self.last_internal_step.unwrap_or(f64::NAN);
+        b.extend_from_slice(&last.to_bits().to_le_bytes());
+        b.extend_from_slice(&self.snapshot.to_bytes());
+        b
+    }
+
+    /// Reads [`FmuState::to_bytes`]; a damaged or foreign buffer is an error.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, Error> {
+        const HEAD: usize = 8 + 8 + 4 + 1 + 8;
+        if bytes.len() < HEAD || &bytes[..8] != STATE_MAGIC {
+            return Err(Error::Input(format!(
+                "serialized FMU state: {} bytes without the PFEMFMU1 header (not made by this FMU)",
+                bytes.len()
+            )));
+        }
+        let tau = f64::from_bits(u64::from_le_bytes(bytes[8..16].try_into().expect("8 bytes")));
+        let contact_count = i32::from_le_bytes(bytes[16..20].try_into().expect("4 bytes"));
+        let impact = bytes[20] != 0;
+        let last = f64::from_bits(u64::from_le_bytes(bytes[21..29].try_into().expect("8 bytes")));
+        let last_internal_step = (!last.is_nan()).then_some(last);
+        let snapshot = Snapshot::from_bytes(&bytes[HEAD..], "serialized FMU state")?;
+        Ok(Self {
+            snapshot,
+            tau,
+            contact_count,
+            impact,
+            last_internal_step,
+        })
+    }
+}
+
+/// One FMU instance (see the module doc).
+pub struct Instance {
+    /// The instance name given by the master.
+    pub name: String,
+    /// Whether debug logging (non-error messages) is on.
+    pub logging_on: bool,
+    log: LogSink,
+    /// The state machine.
+    pub phase: Phase,
+    /// Value of every table entry (Integer and Boolean as 0/1), in table order.
+    values: Vec<f64>,
+    /// The simulation, once built.
+    sim: Option<Simulation>,
+    /// Parameters changed since the simulation was built.
+    stale: bool,
+    /// `startTime` of `fmi2SetupExperiment` \[s\]; the FMU time is this plus the simulation's.
+    start_time: f64,
+    /// Impacts so far (no wall yet: 0).
+    contact_count: i32,
+    /// An impact started during the last step.
+    impact: bool,
+    /// The internal step of the last `doStep` \[s\] (see [`Instance::internal_steps`]).
+    last_internal_step: Option<f64>,
+    /// Outputs computed for the current state, by [`Output`] as index.
+    cache: [Option<f64>; OUTPUTS],
+}
+
+/// The number of [`Output`]s.
+const OUTPUTS: usize = 8;
+
+/// Relative distance below which a communication step counts as a multiple of
+/// `max_internal_step`, or an internal step as the previous one ([`Instance::internal_steps`]).
+pub const STEP_SNAP: f64 = 1e-9;
+
+/// Relative tolerance between the master's communication point and the FMU's time.
+pub const TIME_TOLERANCE: f64 = 1e-6;
+
+impl Instance {
+    /// A new instance with every variable at its start value.
+    pub fn new(name: &str, logging_on: bool, log: LogSink) -> Self {
+        Self {
+            name: name.to_string(),
+            logging_on,
+            log,
+            phase: Phase::Instantiated,
+            values: VARIABLES.iter().map(|v| v.start.unwrap_or(0.0)).collect(),
+            sim: None,
+            stale: true,
+            start_time: 0.0,
+            contact_count: 0,
+            impact: false,
+            last_internal_step: None,
+            cache: [None; OUTPUTS],
+        }
+    }
+
+    /// Logs an error (always) and returns [`Status::Error`].
+    pub fn error(&self, message: &str) -> Status {
+        (self.log)(Status::Error, "logStatusError", message);
+        Status::Error
+    }
+
+    /// Logs an informative message when logging is on.
+    fn info(&self, message: &str) {
+        if self.logging_on {
+            (self.log)(Status::Ok, "logAll", message);
+        }
+    }
+
+    /// The current value of the table entry with this role.
+    fn value_of(&self, role: Role) -> f64 {
+        let i = VARIABLES
+            .iter()
+            .position(|v| v.role == role)
+            .expect("role in the table");
+        self.values[i]
+    }
+
+    /// The FMU time \[s\].
+    pub fn time(&self) -> f64 {
+        self.start_time + self.sim.as_ref().map_or(0.0, Simulation::time)
+    }
+
+    /// Back to the instantiated state with the start values (`fmi2Reset`).
+    pub fn reset(&mut self) {
+        let (name, logging_on) = (std::mem::take(&mut self.name), self.logging_on);
+        let log = std::mem::replace(&mut self.log, Box::new(|_, _, _| {}));
+        *self = Self::new(&name, logging_on, log);
+    }
+
+    /// `fmi2SetupExperiment`: the start time (tolerance and stop time are not used).
+    pub fn setup_experiment(&mut self, start_time: f64) -> Status {
+        if self.phase != Phase::Instantiated {
+            return self.error("fmi2SetupExperiment: allowed only after fmi2Instantiate or fmi2Reset");
+        }
+        if !start_time.is_finite() {
+            return self.error(&format!("fmi2SetupExperiment: startTime = {start_time} is not finite"));
+        }
+        self.start_time = start_time;
+        Status::Ok
+    }
+
+    /// `fmi2EnterInitializationMode`.
+    pub fn enter_initialization(&mut self) -> Status {
+        if self.phase != Phase::Instantiated {
+            return self.error("fmi2EnterInitializationMode: allowed only once, after fmi2Instantiate");
+        }
+        self.phase = Phase::Initialization;
+        Status::Ok
+    }
+
+    /// `fmi2ExitInitializationMode`: builds the simulation; invalid parameters are reported here.
+    pub fn exit_initialization(&mut self) -> Status {
+        if self.phase != Phase::Initialization {
+            return self.error("fmi2ExitInitializationMode: not in initialization mode");
+        }
+        if let Err(status) = self.ensure_sim() {
+            return status;
+        }
+        self.phase = Phase::StepMode;
+        Status::Ok
+    }
+
+    /// `fmi2Terminate`.
+    pub fn terminate(&mut self) -> Status {
+        self.phase = Phase::Terminated;
+        Status::Ok
+    }
+
+    /// The configuration of the current parameter values: the CLI's defaults, each parameter with a
+    /// configuration key set by name, `initial.angle_deg` from `theta_start`, and the torque input
+    /// declared (`[torque] profile = "constant", amplitude = 0`).
+    pub fn config(&self) -> Result<Config, Error> {
+        let mut sets = vec![
+            "torque.profile=\"constant\"".to_string(),
+            "torque.amplitude=0.0".to_string(),
+        ];
+        for (v, &value) in VARIABLES.iter().zip(&self.values) {
+            match v.role {
+                Role::Config(key) => sets.push(match v.kind {
+                    Kind::Real => format!("{key}={value:?}"),
+                    _ => format!("{key}={}", value as i64),
+                }),
+                Role::ThetaStart => sets.push(format!("initial.angle_deg={:?}", value.to_degrees())),
+                Role::WallKind => sets.push(match value as i64 {
+                    0 => "wall.kind=\"none\"".to_string(),
+                    1 => "wall.kind=\"rigid\"".to_string(),
+                    2 => "wall.kind=\"deformable\"".to_string(),
+                    other => format!("wall.kind={other}"),
+                }),
+                _ => {}
+            }
+        }
+        Config::load(None, &sets)
+    }
+
+    /// Checks the parameters that are not configuration keys.
+    fn check_own_parameters(&self) -> Result<(), String> {
+        let h = self.value_of(Role::MaxInternalStep);
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(format!("max_internal_step = {h}: allowed a finite value > 0 s"));
+        }
+        let w = self.value_of(Role::WallKind);
+        if !(0.0..=2.0).contains(&w) {
+            return Err(format!("wall_kind = {w}: allowed 0 (none), 1 (rigid) or 2 (deformable)"));
+        }
+        let t = self.value_of(Role::ThetaStart);
+        if !(-2.0 * std::f64::consts::PI..=2.0 * std::f64::consts::PI).contains(&t) {
+            return Err(format!("theta_start = {t}: allowed -2 pi to 2 pi rad"));
+        }
+        Ok(())
+    }
+
+    /// Builds the simulation if there is none or a parameter changed; errors are logged.
+    fn ensure_sim(&mut self) -> Result<(), Status> {
+        if self.sim.is_some() && !self.stale {
+            return Ok(());
+        }
+        if let Err(e) = self.check_own_parameters() {
+            return Err(self.error(&format!("invalid parameter: {e}")));
+        }
+        let built = self.config().and_then(|cfg| {
+            let mesh = mesh::generate(&cfg)?;
+            let mut sim = Simulation::from_config(&cfg, mesh)?;
+            let tau = self.value_of(Role::Tau);
+            if tau != 0.0 {
+                sim.set_torque(tau)?;
+            }
+            Ok(sim)
+        });
+        match built {
+            Ok(sim) => {
+                self.info(&format!(
+                    "model built: {} triangles, {} nodes, theta = {} rad",
+                    sim.model.mesh.triangles.len(),
+                    sim.model.mesh.num_nodes(),
+                    sim.theta()
+                ));
+                self.sim = Some(sim);
+                self.invalidate();
+                self.stale = false;
+                Ok(())
+            }
+            Err(e) => {
+                self.sim = None;
+                Err(self.error(&format!("invalid parameters, the model cannot be built: {e}")))
+            }
+        }
+    }
+
+    /// Sets values by value reference (`fmi2SetReal`, `…Integer`, `…Boolean`).
+    pub fn set(&mut self, kind: Kind, vrs: &[u32], values: &[f64]) -> Status {
+        self.invalidate();
+        for (&vr, &value) in vrs.iter().zip(values) {
+            let Some((i, v)) = crate::variables::lookup(vr, kind) else {
+                return self.error(&format!("set: no {kind:?} variable with value reference {vr}"));
+            };
+            match v.causality {
+                Causality::Output => return self.error(&format!("set: {} is an output", v.name)),
+                Causality::Parameter if !matches!(self.phase, Phase::Instantiated | Phase::Initialization) => {
+                    return self.error(&format!(
+                        "set: {} is a fixed parameter; set it before fmi2ExitInitializationMode",
+                        v.name
+                    ));
+                }
+                Causality::Parameter => {
+                    if self.values[i].to_bits() != value.to_bits() {
+                        self.stale = true;
+                    }
+                    self.values[i] = value;
+                }
+                Causality::Input => {
+                    if !value.is_finite() {
+                        return self.error(&format!("set: {} = {value} is not finite", v.name));
+                    }
+                    let changed = self.values[i].to_bits() != value.to_bits();
+                    self.values[i] = value;
+                    if let (true, Some(sim), false) = (changed, self.sim.as_mut(), self.stale) {
+                        if let Err(e) = sim.set_torque(value) {
+                            let t = self.time();
+                            return self.error(&format!("set: tau = {value} N.m at t = {t} s: {e}"));
+                        }
+                    }
+                }
+            }
+        }
+        Status::Ok
+    }
+
+    /// Reads values by value reference (`fmi2GetReal`, `…Integer`, `…Boolean`) into `out`.
+    pub fn get(&mut self, kind: Kind, vrs: &[u32], out: &mut [f64]) -> Status {
+        for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
+            let Some((i, v)) = crate::variables::lookup(vr, kind) else {
+                return self.error(&format!("get: no {kind:?} variable with value reference {vr}"));
+            };
+            *slot = match v.role {
+                Role::Output(which) => match self.output(which) {
+                    Ok(value) => value,
+                    Err(status) => return status,
+                },
+                _ => self.values[i],
+            };
+        }
+        Status::Ok
+    }
+
+    /// One output of the current state, computed on the first request after a change of the state
+    /// (a step, a torque input, a restored state) and kept until the next: a master that reads
+    /// every output with three calls (Real, Integer, Boolean) pays for each once.
+    fn output(&mut self, which: Output) -> Result<f64, Status> {
+        if let Some(value) = self.cache[which as usize] {
+            return Ok(value);
+        }
+        if self.phase == Phase::Instantiated {
+            return Err(self.error("get: outputs are available from fmi2EnterInitializationMode on"));
+        }
+        self.ensure_sim()?;
+        let impact = self.impact;
+        let sim = self.sim.as_mut().expect("built above");
+        let cache = &mut self.cache;
+        match which {
+            Output::Theta => cache[Output::Theta as usize] = Some(sim.theta()),
+            Output::Omega | Output::Alpha => {
+                let (omega, alpha) = sim.angular_rates();
+                cache[Output::Omega as usize] = Some(omega);
+                cache[Output::Alpha as usize] = Some(alpha);
+            }
+            Output::TotalEnergy => cache[Output::TotalEnergy as usize] = Some(sim.energies().total),
+            Output::Gap | Output::ContactForce | Output::ContactCount | Output::Impact => {
+                let c = contact_outputs(sim, impact);
+                cache[Output::Gap as usize] = Some(c.gap);
+                cache[Output::ContactForce as usize] = Some(c.force);
+                cache[Output::ContactCount as usize] = Some(f64::from(c.count));
+                cache[Output::Impact as usize] = Some(f64::from(u8::from(c.impact)));
+            }
+        }
+        Ok(self.cache[which as usize].expect("computed above"))
+    }
+
+    /// Forgets the computed outputs (the state or an input changed).
+    fn invalidate(&mut self) {
+        self.cache = [None; OUTPUTS];
+    }
+
+    /// `fmi2DoStep(t, h)` (see the module doc).
+    pub fn do_step(&mut self, t: f64, h: f64) -> Status {
+        if self.phase != Phase::StepMode {
+            return self.error("fmi2DoStep: call fmi2ExitInitializationMode first");
+        }
+        let now = self.time();
+        if !(h >= 0.0 && h.is_finite()) {
+            return self.error(&format!(
+                "fmi2DoStep at t = {now} s: communicationStepSize = {h} s must be >= 0"
+            ));
+        }
+        // NaN is never within
+        let within = (t - now).abs() <= TIME_TOLERANCE * now.abs().max(1.0);
+        if !within {
+            return self.error(&format!(
+                "fmi2DoStep: currentCommunicationPoint = {t} s is not the FMU's time {now} s (tolerance {TIME_TOLERANCE} relative)"
+            ));
+        }
+        if h == 0.0 {
+            // an output refresh: outputs are computed on request from the current state
+            return Status::Ok;
+        }
+        let (n, sub) = self.internal_steps(h);
+        let sim = self.sim.as_mut().expect("built at exitInitializationMode");
+        let before = (n > 1).then(|| sim.snapshot());
+        for k in 0..n {
+            if let Err(e) = sim.step(sub) {
+                let failed_at = self.start_time + sim.time();
+                if let Some(before) = &before {
+                    sim.restore(before).expect("a snapshot of this model restores");
+                }
+                return self.error(&format!(
+                    "fmi2DoStep from t = {now} s by h = {h} s failed in internal step {} of {n} at t = {failed_at} s \
+                     (the state is as before the call): {e}",
+                    k + 1
+                ));
+            }
+        }
+        self.last_internal_step = Some(sub);
+        let impacts = sim.impacts() as i32;
+        self.impact = impacts > self.contact_count;
+        self.contact_count = impacts;
+        self.invalidate();
+        Status::Ok
+    }
+
+    /// How `doStep` splits a communication step `h > 0`: `n = ⌈h / max_internal_step⌉` internal
+    /// steps of `h / n`. Masters compute `h` as a difference of communication points, which carries
+    /// rounding (fmpy: `(k + 1)·0.01 − k·0.01`); so that the internal steps are those of the CLI and
+    /// the stepper's clock stays on its grid (`t = k·dt`, computed, not accumulated), an `h` within
+    /// [`STEP_SNAP`] (relative) of `n·max_internal_step` is taken as `n` steps of exactly
+    /// `max_internal_step`, and an internal step within [`STEP_SNAP`] of the previous `doStep`'s as
+    /// that one. The time advanced then differs from `h` by that rounding only.
+    pub fn internal_steps(&self, h: f64) -> (u64, f64) {
+        let max = self.value_of(Role::MaxInternalStep);
+        let ratio = h / max;
+        let nearest = ratio.round();
+        if nearest >= 1.0 && (ratio - nearest).abs() <= STEP_SNAP * ratio {
+            return (nearest as u64, max);
+        }
+        let n = ratio.ceil().max(1.0) as u64;
+        let sub = if n == 1 { h } else { h / n as f64 };
+        match self.last_internal_step {
+            Some(last) if (sub - last).abs() <= STEP_SNAP * last => (n, last),
+            _ => (n, sub),
+        }
+    }
+
+    /// The state for `fmi2GetFMUstate`.
+    pub fn get_state(&self) -> Result<FmuState, Status> {
+        let Some(sim) = self.sim.as_ref().filter(|_| !self.stale) else {
+            return Err(self.error("fmi2GetFMUstate: the model is not built yet (after fmi2ExitInitializationMode)"));
+        };
+        Ok(FmuState {
+            snapshot: sim.snapshot(),
+            tau: self.value_of(Role::Tau),
+            contact_count: self.contact_count,
+            impact: self.impact,
+            last_internal_step: self.last_internal_step,
+        })
+    }
+
+    /// `fmi2SetFMUstate`: a state of this model (same parameters) only.
+    pub fn set_state(&mut self, state: &FmuState) -> Status {
+        if let Err(status) = self.ensure_sim() {
+            return status;
+        }
+        let sim = self.sim.as_mut().expect("built above");
+        if let Err(e) = sim.restore(&state.snapshot) {
+            return self.error(&format!("fmi2SetFMUstate: {e}"));
+        }
+        let tau = VARIABLES.iter().position(|v| v.role == Role::Tau).expect("tau");
+        self.values[tau] = state.tau;
+        self.contact_count = state.contact_count;
+        self.impact = state.impact;
+        self.last_internal_step = state.last_internal_step;
+        self.invalidate();
+        if self.phase == Phase::Instantiated || self.phase == Phase::Initialization {
+            self.phase = Phase::StepMode;
+        }
+        Status::Ok
+    }
+
+    /// The simulation, once built (for tests and benchmarks).
+    pub fn simulation(&mut self) -> Option<&mut Simulation> {
+        self.sim.as_mut()
+    }
+
+    /// The variable table entry named `name` (for tests).
+    pub fn variable(name: &str) -> Option<&'static Variable> {
+        crate::variables::by_name(name)
+    }
+}

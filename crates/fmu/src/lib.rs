@@ -1,0 +1,23 @@
+//! # pendulum-fem-fmu
+//!
+//! The deformable pendulum of `pendulum-fem` as an FMI 2.0 Co-Simulation FMU, model identifier
+//! `PendulumFem`: a torque input `tau` at the pivot; outputs θ, ω, α, the wall gap and contact
+//! outputs, the total energy; parameters for the start, the material, the geometry, the mesh and
+//! the solver, with the CLI's defaults. `cargo xtask fmu` writes `target/fmu/PendulumFem.fmu`.
+//!
+//! * [`variables`]: the one table of variables, and `modelDescription.xml` generated from it.
+//! * [`instance`]: an FMU instance in safe Rust (state machine, parameters as configuration
+//!   overrides, `doStep` over the stepper, FMU states as snapshots).
+//! * [`contact`]: the one function that reads the wall and contact outputs.
+//! * `ffi`: the exported `fmi2*` C functions (every one of the standard's), panic-free.
+//! * [`package`]: the zip archive (used by `xtask` and the tests).
+#![warn(missing_docs)]
+
+pub mod contact;
+mod ffi;
+pub mod instance;
+pub mod package;
+pub mod variables;
+
+pub use instance::{FmuState, Instance, Status};
+pub use variables::{model_description, MODEL_IDENTIFIER, VARIABLES};

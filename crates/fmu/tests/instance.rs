@@ -1,0 +1,169 @@
+//! FMI behaviour of one instance, driven in Rust through [`Instance`] (the C functions only convert
+//! arguments): defaults equal the CLI's, invalid parameters fail at `fmi2ExitInitializationMode`
+//! with the key in the log, zero steps refresh, the master's time is accepted within rounding, a
+//! long communication step equals its internal steps, a failed step changes nothing.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use pendulum_fem::Config;
+use pendulum_fem_fmu::instance::Phase;
+use pendulum_fem_fmu::variables::{by_name, Kind, Role, VARIABLES};
+use pendulum_fem_fmu::{Instance, Status};
+
+type Log = Rc<RefCell<Vec<(Status, String)>>>;
+
+fn instance() -> (Instance, Log) {
+    let log: Log = Rc::default();
+    let sink = log.clone();
+    let inst = Instance::new(
+        "test",
+        false,
+        Box::new(move |status, _category, message| sink.borrow_mut().push((status, message.to_string()))),
+    );
+    (inst, log)
+}
+
+fn set(inst: &mut Instance, name: &str, value: f64) -> Status {
+    let v = by_name(name).expect("variable");
+    inst.set(v.kind, &[v.vr], &[value])
+}
+
+fn get(inst: &mut Instance, name: &str) -> f64 {
+    let v = by_name(name).expect("variable");
+    let mut out = [f64::NAN];
+    assert_eq!(inst.get(v.kind, &[v.vr], &mut out), Status::Ok, "get {name}");
+    out[0]
+}
+
+/// An initialised instance with `params`.
+fn started(params: &[(&str, f64)]) -> (Instance, Log) {
+    let (mut inst, log) = instance();
+    assert_eq!(inst.setup_experiment(0.0), Status::Ok);
+    assert_eq!(inst.enter_initialization(), Status::Ok);
+    for &(name, value) in params {
+        assert_eq!(set(&mut inst, name, value), Status::Ok, "{name}");
+    }
+    assert_eq!(inst.exit_initialization(), Status::Ok, "{:?}", log.borrow());
+    (inst, log)
+}
+
+fn outputs(inst: &mut Instance) -> Vec<u64> {
+    VARIABLES
+        .iter()
+        .filter(|v| matches!(v.role, Role::Output(_)))
+        .map(|v| get(inst, v.name).to_bits())
+        .collect()
+}
+
+#[test]
+fn parameter_defaults_are_the_cli_defaults() {
+    let json = serde_json::to_value(Config::default()).expect("config as JSON");
+    for v in VARIABLES {
+        let Role::Config(key) = v.role else { continue };
+        let value = key
+            .split('.')
+            .fold(&json, |node, part| &node[part])
+            .as_f64()
+            .unwrap_or_else(|| panic!("{key} is not a number in Config::default()"));
+        assert_eq!(v.start, Some(value), "{} ({key})", v.name);
+    }
+    let theta = by_name("theta_start").unwrap().start.unwrap();
+    assert_eq!(theta.to_degrees(), Config::default().initial.angle_deg);
+    assert_eq!(
+        by_name("max_internal_step").unwrap().start,
+        Some(Config::default().time.dt)
+    );
+}
+
+#[test]
+fn invalid_parameters_fail_at_exit_initialization_naming_the_key() {
+    for (name, value, needle) in [
+        ("poisson_ratio", 0.7, "material.poisson_ratio"),
+        ("mesh_order", 3.0, "mesh.order"),
+        ("hole_radius", 0.07, "geometry.hole_radius"),
+        ("max_internal_step", 0.0, "max_internal_step"),
+    ] {
+        let (mut inst, log) = instance();
+        inst.enter_initialization();
+        assert_eq!(set(&mut inst, name, value), Status::Ok);
+        assert_eq!(inst.exit_initialization(), Status::Error, "{name} = {value}");
+        let messages = log.borrow();
+        assert!(
+            messages.iter().any(|(s, m)| *s == Status::Error && m.contains(needle)),
+            "{name}: {messages:?}"
+        );
+        assert_eq!(inst.phase, Phase::Initialization);
+    }
+}
+
+#[test]
+fn a_zero_step_refreshes_and_the_master_time_is_accepted_within_rounding() {
+    let (mut inst, log) = started(&[("theta_start", 0.35)]);
+    let before = outputs(&mut inst);
+    assert_eq!(inst.do_step(1e-8, 0.0), Status::Ok, "a zero step 1e-8 s off");
+    assert_eq!(outputs(&mut inst), before, "a zero step changes nothing");
+    assert_eq!(inst.do_step(0.0, 0.01), Status::Ok);
+    assert_eq!(
+        inst.do_step(0.01 + 5e-9, 0.01),
+        Status::Ok,
+        "1e-8-ish off the FMU's 0.01 s"
+    );
+    assert_eq!(inst.time(), 0.02, "the FMU keeps its own clock");
+    assert_eq!(inst.do_step(0.03, 0.01), Status::Error, "10 ms off is another time");
+    assert!(log.borrow().iter().any(|(_, m)| m.contains("not the FMU's time")));
+}
+
+#[test]
+fn a_long_communication_step_equals_its_internal_steps() {
+    let (mut long, _) = started(&[("theta_start", 0.35)]);
+    let (mut short, _) = started(&[("theta_start", 0.35)]);
+    assert_eq!(long.internal_steps(0.05), (5, 0.01));
+    assert_eq!(
+        long.internal_steps(0.010000000000000009),
+        (1, 0.01),
+        "a master's rounding"
+    );
+    assert_eq!(long.internal_steps(0.025), (3, 0.025 / 3.0));
+    assert_eq!(long.do_step(0.0, 0.05), Status::Ok);
+    for k in 0..5 {
+        assert_eq!(short.do_step(k as f64 * 0.01, 0.01), Status::Ok);
+    }
+    assert_eq!(outputs(&mut long), outputs(&mut short));
+    assert_eq!(long.time(), short.time());
+}
+
+#[test]
+fn a_failed_step_is_an_error_naming_time_and_cause_and_changes_nothing() {
+    // with one Newton iteration and no cut-back the first internal step still converges (the start
+    // is in equilibrium and the rotational guess is close), a later one does not: the state goes
+    // back to before the whole communication step
+    let (mut inst, log) = started(&[("solver_max_iterations", 1.0), ("solver_max_cutbacks", 0.0)]);
+    let before = outputs(&mut inst);
+    assert_eq!(inst.do_step(0.0, 0.03), Status::Error);
+    assert_eq!(outputs(&mut inst), before, "outputs as before the call");
+    assert_eq!(inst.time(), 0.0);
+    let messages = log.borrow();
+    let (_, m) = messages.last().expect("a message");
+    assert!(m.contains("from t = 0 s") && m.contains("Newton"), "{m}");
+    assert!(m.contains("internal step 2 of 3") && m.contains("at t = 0.01 s"), "{m}");
+}
+
+#[test]
+fn tau_is_held_and_reaches_the_acceleration_without_a_step() {
+    let (mut inst, _) = started(&[("theta_start", 0.0)]);
+    assert_eq!(inst.do_step(0.0, 0.01), Status::Ok);
+    let alpha = get(&mut inst, "alpha");
+    assert_eq!(set(&mut inst, "tau", 0.5), Status::Ok);
+    assert!(get(&mut inst, "alpha") > alpha, "alpha depends on tau directly");
+    let theta = get(&mut inst, "theta");
+    assert_eq!(inst.do_step(0.01, 0.01), Status::Ok);
+    assert!(
+        get(&mut inst, "theta") > theta,
+        "a positive torque turns the body counter-clockwise"
+    );
+    assert_eq!(get(&mut inst, "contact_count"), 0.0);
+    assert!(get(&mut inst, "gap") > 0.0);
+    let v = by_name("tau").unwrap();
+    assert_eq!(v.kind, Kind::Real);
+}
