@@ -106,7 +106,7 @@ def test_a_toml_file_a_dict_and_keywords_give_the_same_configuration(tmp_path):
     # keywords win over the file; None leaves a key alone
     over = Simulation(path, **{"initial.angle_deg": 10, "time.dt": None})
     assert over.config["initial"]["angle_deg"] == 10 and over.config["time"]["dt"] == 0.01
-    assert abs(over.theta - np.radians(10)) < 1e-12
+    assert abs(over.theta - np.radians(10)) < 1e-6  # the soft body sags in its initial equilibrium
     # the library reports an unreadable file as a configuration error
     with pytest.raises(ValueError, match="nope.toml"):
         Simulation(tmp_path / "nope.toml")

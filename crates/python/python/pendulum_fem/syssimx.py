@@ -159,6 +159,7 @@ class PendulumFem(CoSimComponent):
         sim = self._require_sim()
         if not (math.isfinite(dt) and dt >= 0.0):
             raise ValueError(f"[{self.name}] macro step dt = {dt} s: allowed finite and >= 0")
+        self.internal_event_hints.clear()  # hints belong to the advance that reports them
         if dt == 0.0:
             return  # an output refresh (syssimx's initialization and algebraic loops)
         n, h = internal_steps(dt, self._max_step)
