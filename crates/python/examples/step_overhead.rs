@@ -17,6 +17,7 @@ fn main() -> Result<(), pendulum_fem::Error> {
         }
         best = best.min(start.elapsed().as_secs_f64());
     }
-    println!("rust: 100 x step(0.01): best {:.4} s ({:.3} ms per step)", best, best * 10.0);
+    let per_step = best * 10.0;
+    println!("rust: 100 x step(0.01): best {best:.4} s ({per_step:.3} ms per step)");
     Ok(())
 }
