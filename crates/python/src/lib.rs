@@ -51,6 +51,9 @@ fn py_err(e: Error) -> PyErr {
     }
 }
 
+/// How often `run` looks for Ctrl-C (in the main thread).
+const SIGNAL_CHECK: std::time::Duration = std::time::Duration::from_millis(50);
+
 /// The boundary of the head's outer circle ([`pendulum_fem::Mesh::nodes_on`]).
 const HEAD_BOUNDARY: &str = "contact_head";
 
@@ -330,13 +333,23 @@ impl PySimulation {
             ..self.config.time.clone()
         };
         let plan = StepPlan::of(&time);
+        // Ctrl-C reaches the main thread only: there, look for it every SIGNAL_CHECK of wall time
+        // (each look takes the GIL back for a moment); elsewhere never
+        let threading = py.import("threading")?;
+        let main_thread = threading
+            .call_method0("current_thread")?
+            .is(&threading.call_method0("main_thread")?);
         let sim = &mut self.sim;
         let rows = py.detach(|| -> PyResult<Vec<Vec<f64>>> {
             let mut rows = Vec::with_capacity(plan.steps() + 1);
             let its = sim.last_newton_iterations();
             rows.push(csv_values(&sim.record(its)));
+            let mut looked = std::time::Instant::now();
             for i in 0..plan.steps() {
-                Python::attach(|py| py.check_signals())?;
+                if main_thread && looked.elapsed() >= SIGNAL_CHECK {
+                    Python::attach(|py| py.check_signals())?;
+                    looked = std::time::Instant::now();
+                }
                 let its = if i < plan.full { sim.step(dt) } else { sim.step_to(end) };
                 let its = its.map_err(py_err)?;
                 rows.push(csv_values(&sim.record(its)));

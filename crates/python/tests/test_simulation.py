@@ -197,3 +197,22 @@ def test_invalid_steps_raise_value_error_and_change_nothing():
 def test_importing_pendulum_fem_does_not_import_syssimx():
     code = "import sys, pendulum_fem; pendulum_fem.Simulation; assert 'syssimx' not in sys.modules"
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_ctrl_c_stops_a_run_at_a_step_boundary():
+    code = """
+import os, signal, threading, time, pendulum_fem
+sim = pendulum_fem.Simulation()
+threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+start = time.perf_counter()
+try:
+    sim.run(100.0, 0.01)
+    raise SystemExit("run was not interrupted")
+except KeyboardInterrupt:
+    pass
+assert time.perf_counter() - start < 5.0, "the interrupt took too long"
+assert 0 < sim.steps < 10000 and abs(sim.time - sim.steps * 0.01) < 1e-9, (sim.steps, sim.time)
+sim.step(0.01)  # the simulation goes on
+print(sim.steps)
+"""
+    subprocess.run([sys.executable, "-c", code], check=True)
