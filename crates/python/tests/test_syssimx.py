@@ -5,6 +5,7 @@ import math
 import pytest
 
 from syssimx import Connection, CoSimComponent, PortSpec, PortType, System
+from syssimx.system.algorithms import HybridAlgorithm
 
 from pendulum_fem import Simulation
 from pendulum_fem.syssimx import PendulumFem, internal_steps
@@ -132,3 +133,37 @@ def test_alpha_answers_tau_within_the_instant():
     out = plant.evaluate_outputs({"tau": 1.0})
     assert magnitude(out["alpha"], "rad/s^2") - alpha0 == pytest.approx(1.0 / plant.sim.inertia, rel=1e-3)
     assert plant.direct_feedthrough["alpha"] == {"tau"} and plant.direct_feedthrough["theta"] == set()
+
+
+def crossing_time(h_coarse, h_fine):
+    """When θ first falls through 0 on the trajectory of steps h_coarse: the last coarse step before
+    it, then steps of h_fine from its snapshot, then linear interpolation."""
+    sim = Simulation(torque={"profile": "constant"})
+    while True:
+        snap = sim.snapshot()
+        sim.step(h_coarse)
+        if sim.theta < 0:
+            break
+    sim.restore(snap)
+    while sim.theta > 0:
+        t0, th0 = sim.time, sim.theta
+        sim.step(h_fine)
+    return t0 + (sim.time - t0) * th0 / (th0 - sim.theta)
+
+
+def test_the_hybrid_algorithm_locates_a_crossing_by_rollback():
+    # θ falls through 0 once in 0.3 s (the swing from 20°, a quarter period); syssimx's hybrid
+    # algorithm brackets it by stepping the component from checkpoints again and again
+    plant = PendulumFem("pendulum", max_internal_step=1e-3)
+    plant.add_event_indicator("upright", lambda c: c.sim.theta, direction=-1)
+    system = System("crossing")
+    system.add_component(plant)
+    system.set_algorithm(HybridAlgorithm())
+    system.initialize(0.0)
+    system.run(0.0, 0.3, 0.01)
+    events = system.history.get_all_event_histories()[("pendulum", "upright")]
+    assert len(events) == 1
+    expected = crossing_time(1e-3, 1e-6)
+    # syssimx stops when |indicator| < tol_value = 1e-6 rad, i.e. within 1e-6 / ω ≈ 7e-7 s
+    assert abs(events[0].t - expected) < 1e-6, f"located at {events[0].t!r} s, the trajectory crosses at {expected!r} s"
+    assert plant.sim.theta < 0 and abs(plant.sim.time - 0.3) < 1e-6
