@@ -1,0 +1,123 @@
+"""Type stubs of the Rust extension module ``pendulum_fem._core`` (re-exported by ``pendulum_fem``)."""
+
+import os
+from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+
+class ConvergenceError(RuntimeError):
+    """A time step (or the initial equilibrium) failed after every cut-back; the simulation is
+    left exactly as before the call."""
+
+def csv_columns() -> List[str]:
+    """The header of ``results.csv``: the column names of :meth:`Simulation.run`."""
+
+class Simulation:
+    """A deformable pendulum simulation (finite elements, hyperelastic, on a hinge under gravity).
+
+    ``config`` is a TOML file (path), a dict of the CLI's configuration keys (nested sections or
+    dotted keys) or ``None`` for the defaults (the tutorial's steel pendulum released at 20°).
+    Keyword overrides use the same keys and win over ``config``::
+
+        Simulation("pendulum.toml", time={"dt": 0.005})
+        Simulation({"material": {"youngs_modulus": 1e7}})
+        Simulation(**{"material.youngs_modulus": 1e7, "initial.angle_deg": 45})
+
+    A value of ``None`` leaves a key as it is. Invalid keys or values raise ``ValueError`` with the
+    library's message naming the key (``pendulum-fem init`` writes every key with its unit).
+    """
+
+    def __init__(self, config: Union[str, "os.PathLike[str]", Mapping[str, Any], None] = None, **overrides: Any) -> None: ...
+    def step(self, dt: float) -> int:
+        """Advances by ``dt`` [s] (any finite ``dt > 0``; the GIL is released) and returns the
+        Newton iterations of the step. ``n`` calls with the same ``dt`` land on ``t0 + n·dt``
+        exactly. A failed step raises :class:`ConvergenceError` and changes nothing."""
+    def step_to(self, t_end: float) -> int:
+        """Advances by one step that lands exactly on ``t_end`` [s] (after the current time)."""
+    def run(self, end: float, dt: Optional[float] = None) -> Dict[str, npt.NDArray[np.float64]]:
+        """Runs from the current state to ``end`` [s] in steps of ``dt`` (default ``time.dt``; a
+        shorter last step lands on ``end``) and returns the rows of ``results.csv`` as numpy
+        columns named as its header (:func:`csv_columns`), the current state first. From the start
+        this equals the CLI's ``results.csv`` for ``time.end = end`` bit for bit. The GIL is
+        released; Ctrl-C stops at a step boundary."""
+    def snapshot(self) -> bytes:
+        """The complete state as bytes; :meth:`restore` continues bit for bit."""
+    def restore(self, data: bytes) -> None:
+        """Restores a :meth:`snapshot` of a simulation of the same model (else ``ValueError``)."""
+    def __reduce__(self) -> Tuple[Any, Tuple[str, bytes]]: ...
+    @staticmethod
+    def _from_state(config_toml: str, snapshot: bytes) -> "Simulation": ...
+    @property
+    def time(self) -> float:
+        """Time of the current state [s]."""
+    @property
+    def theta(self) -> float:
+        """Proxy angle [rad]: the best-fit rotation about the pivot, counter-clockwise from
+        hanging down, unwrapped past ±π."""
+    @property
+    def omega(self) -> float:
+        """Best-fit angular velocity [rad/s]."""
+    @property
+    def alpha(self) -> float:
+        """Best-fit angular acceleration [rad/s²]; it follows ``tau`` at once."""
+    @property
+    def tau(self) -> float:
+        """Pivot torque [N m], counter-clockwise positive (held value, else the ``[torque]``
+        profile's value now, 0 without one). Setting it holds the value over the following steps.
+        A model without a torque profile gets a torque input when ``tau`` is first set, which must
+        happen before its first step (or declare it: ``Simulation(torque={"profile": "constant"})``)."""
+    @tau.setter
+    def tau(self, value: float) -> None: ...
+    @property
+    def gap(self) -> float:
+        """Gap between the head and the wall face [m], positive while apart; for now the
+        tutorial's wall face ``x = −geometry.head_radius`` (``inf`` for a mesh without a head)."""
+    @property
+    def energies(self) -> Dict[str, float]:
+        """``kinetic``, ``strain``, ``gravity``, ``total`` and ``torque_work`` [J]."""
+    @property
+    def hinge_reaction(self) -> Tuple[float, float]:
+        """Force of the hinge on the body ``(fx, fy)`` [N]."""
+    @property
+    def steps(self) -> int:
+        """Steps taken since the start."""
+    @property
+    def newton_iterations(self) -> int:
+        """Newton iterations of the last step."""
+    @property
+    def nodes(self) -> npt.NDArray[np.float64]:
+        """Reference node coordinates, shape ``(nodes, 2)`` [m]; pivot at the origin."""
+    @property
+    def triangles(self) -> npt.NDArray[np.int64]:
+        """Six-node triangles as node indices, shape ``(triangles, 6)``."""
+    @property
+    def displacement(self) -> npt.NDArray[np.float64]:
+        """Nodal displacement, shape ``(nodes, 2)`` [m] (a copy)."""
+    @property
+    def velocity(self) -> npt.NDArray[np.float64]:
+        """Nodal velocity, shape ``(nodes, 2)`` [m/s] (a copy)."""
+    @property
+    def von_mises(self) -> npt.NDArray[np.float64]:
+        """Nodal von Mises stress, shape ``(nodes,)`` [Pa] (computed on access)."""
+    @property
+    def cauchy_stress(self) -> npt.NDArray[np.float64]:
+        """Nodal Cauchy stress ``[σxx, σyy, σxy]``, shape ``(nodes, 3)`` [Pa] (computed on access)."""
+    @property
+    def mass(self) -> float:
+        """Mass of the body [kg]."""
+    @property
+    def inertia(self) -> float:
+        """Moment of inertia about the pivot [kg m²]."""
+    @property
+    def center_of_mass(self) -> Tuple[float, float]:
+        """Centre of mass of the hanging body ``(x, y)`` [m], pivot at the origin."""
+    @property
+    def config(self) -> Dict[str, Any]:
+        """The configuration in effect, as a dict of sections."""
+    @property
+    def config_toml(self) -> str:
+        """The configuration in effect as TOML (for ``pendulum-fem run --config``)."""

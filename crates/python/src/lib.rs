@@ -1,0 +1,567 @@
+//! `pendulum_fem._core`: the Python face of the pendulum's stepper (PyO3, an abi3 extension module
+//! built by maturin; the Python package `pendulum_fem` re-exports it).
+//!
+//! One class, [`PySimulation`] (`pendulum_fem.Simulation`), owns a [`pendulum_fem::Simulation`] and
+//! the [`pendulum_fem::Config`] it was built from:
+//!
+//! * **Configuration**: a TOML file, a dict (nested, or with dotted keys) and keyword overrides with
+//!   the CLI's keys. Dicts and keywords become the CLI's `--set key=value` overrides (each value
+//!   written as a TOML literal), so they are merged and checked by [`pendulum_fem::Config::load`]
+//!   exactly as on the command line.
+//! * **Stepping**: `step(dt)`, `step_to(t_end)` and `run(end, dt)` release the GIL; `run` returns
+//!   the columns of `results.csv` ([`pendulum_fem::StepRecord::HEADER`],
+//!   [`pendulum_fem_io::run::csv_values`]) as numpy arrays.
+//! * **Torque input**: `tau` holds the pivot torque ([`pendulum_fem::Simulation::set_torque`]). A
+//!   model without a `[torque]` profile has no torque term (so that `Simulation()` is the CLI's
+//!   default run bit for bit); setting `tau` before the first step declares one (`torque.profile =
+//!   "constant"`, `amplitude = 0`) by rebuilding the model from the same mesh.
+//! * **State**: `snapshot()`/`restore()` as bytes ([`pendulum_fem::Snapshot::to_bytes`]) and
+//!   pickling (the configuration as TOML and the snapshot).
+//! * **Errors**: the Rust message in a Python exception: `ValueError` for invalid input (a bad
+//!   key names the key), `ConvergenceError` (a `RuntimeError`) for a failed step, `OSError` for
+//!   files.
+
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyUserWarning, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+
+use pendulum_fem_io::run::{csv_values, StepPlan};
+use pendulum_fem::config::TorqueProfile;
+use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot, StepRecord};
+
+pyo3::create_exception!(
+    pendulum_fem,
+    ConvergenceError,
+    pyo3::exceptions::PyRuntimeError,
+    "A time step (or the initial equilibrium) failed after every cut-back; the simulation is left \
+     exactly as before the call."
+);
+
+/// The Rust error as a Python exception with the Rust message.
+fn py_err(e: Error) -> PyErr {
+    let message = e.to_string();
+    match e {
+        Error::TimeStep { .. } | Error::InitialEquilibrium { .. } => ConvergenceError::new_err(message),
+        Error::Io { .. } => PyOSError::new_err(message),
+        Error::Config(_) | Error::Input(_) | Error::Geometry(_) | Error::Mesh(_) | Error::InvertedElement { .. } => {
+            PyValueError::new_err(message)
+        }
+        _ => PyRuntimeError::new_err(message),
+    }
+}
+
+/// How often `run` looks for Ctrl-C (in the main thread).
+const SIGNAL_CHECK: std::time::Duration = std::time::Duration::from_millis(50);
+
+/// The boundary of the head's outer circle ([`pendulum_fem::Mesh::nodes_on`]).
+const HEAD_BOUNDARY: &str = "contact_head";
+
+/// The contact reading of the current state \[m\]: until the wall lands in the library, the
+/// smallest signed distance from the nodes of the head's arc to the tutorial's wall face, the plane
+/// `x = −geometry.head_radius` (the hanging head touches it), positive while apart; `+∞` for a mesh
+/// without a head arc.
+///
+/// The one place that reads contact: rewire it to the library's wall (its face and gap) when the
+/// contact issue lands.
+pub fn contact_gap(sim: &Simulation, head_nodes: &[usize]) -> f64 {
+    let face_x = -sim.model.config.geometry.head_radius;
+    let u = sim.displacement();
+    let nodes = &sim.model.mesh.nodes;
+    head_nodes
+        .iter()
+        .map(|&n| nodes[n][0] + u[2 * n] - face_x)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// `cfg` with a torque input declared (`torque.profile = "constant"`, `amplitude = 0`).
+fn with_torque_input(cfg: &Config) -> Config {
+    let mut c = cfg.clone();
+    c.torque.profile = TorqueProfile::Constant;
+    c.torque.amplitude = 0.0;
+    c
+}
+
+/// A Python value as a TOML value (`None`: no value, the key keeps its default).
+fn toml_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<toml::Value>> {
+    if v.is_none() {
+        return Ok(None);
+    }
+    let value = if v.is_instance_of::<PyBool>() {
+        toml::Value::Boolean(v.extract()?)
+    } else if v.is_instance_of::<PyInt>() {
+        toml::Value::Integer(v.extract()?)
+    } else if v.is_instance_of::<PyFloat>() {
+        toml::Value::Float(v.extract()?)
+    } else if v.is_instance_of::<PyString>() {
+        toml::Value::String(v.extract()?)
+    } else if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let mut items = Vec::new();
+        for item in v.try_iter()? {
+            if let Some(x) = toml_value(key, &item?)? {
+                items.push(x);
+            }
+        }
+        toml::Value::Array(items)
+    } else if v.hasattr("__fspath__")? {
+        let os = v.py().import("os")?;
+        toml::Value::String(os.call_method1("fspath", (v,))?.extract()?)
+    } else if let Ok(i) = v.extract::<i64>() {
+        // numpy integers and other objects with __index__
+        toml::Value::Integer(i)
+    } else if let Ok(x) = v.extract::<f64>() {
+        toml::Value::Float(x)
+    } else {
+        return Err(PyValueError::new_err(format!(
+            "configuration key `{key}`: a {} is not a configuration value (numbers, booleans, strings, paths)",
+            v.get_type().name()?
+        )));
+    };
+    Ok(Some(value))
+}
+
+/// Appends the `key=value` overrides of a dict (nested dicts join their keys with dots).
+fn flatten(prefix: &str, dict: &Bound<'_, PyDict>, out: &mut Vec<String>) -> PyResult<()> {
+    for (k, v) in dict.iter() {
+        let k: String = k
+            .extract()
+            .map_err(|_| PyValueError::new_err(format!("configuration keys are strings, got {k:?}")))?;
+        let key = if prefix.is_empty() { k } else { format!("{prefix}.{k}") };
+        if let Ok(sub) = v.cast::<PyDict>() {
+            flatten(&key, sub, out)?;
+        } else if let Some(value) = toml_value(&key, &v)? {
+            out.push(format!("{key}={value}"));
+        }
+    }
+    Ok(())
+}
+
+/// The keys of `overrides` (`key=value`) that name nothing in the configuration: a part of the key
+/// missing from a section of the default configuration (as JSON; `None` fields are `null`, so every
+/// key is there). Only used to name the key in an error the library already reported.
+fn unknown_keys(overrides: &[String]) -> Vec<String> {
+    let defaults = serde_json::to_value(Config::default()).unwrap_or(serde_json::Value::Null);
+    let mut unknown = Vec::new();
+    for o in overrides {
+        let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k).trim();
+        let mut node = &defaults;
+        for part in key.split('.') {
+            match node.as_object() {
+                Some(section) => match section.get(part) {
+                    Some(next) => node = next,
+                    None => {
+                        unknown.push(key.to_string());
+                        break;
+                    }
+                },
+                None => break,
+            }
+        }
+    }
+    unknown
+}
+
+/// Loads a configuration as the CLI does (`--config FILE --set …`); an unknown key is a
+/// `ValueError` that names it.
+fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResult<Config> {
+    Config::load(path.as_deref(), overrides).map_err(|e| {
+        let message = e.to_string();
+        let unknown = unknown_keys(overrides);
+        if message.contains("unknown field") && !unknown.is_empty() {
+            let keys: Vec<String> = unknown.iter().map(|k| format!("`{k}`")).collect();
+            PyValueError::new_err(format!("unknown configuration key {} ({message})", keys.join(", ")))
+        } else {
+            py_err(e)
+        }
+    })
+}
+
+/// The configuration as TOML that reads back to the same value (file paths made absolute).
+fn config_toml(cfg: &Config) -> PyResult<String> {
+    let mut cfg = cfg.clone();
+    for file in [&mut cfg.mesh.file, &mut cfg.torque.file].into_iter().flatten() {
+        if let Ok(abs) = std::path::absolute(&*file) {
+            *file = abs;
+        }
+    }
+    toml::to_string(&cfg).map_err(|e| PyRuntimeError::new_err(format!("configuration as TOML: {e}")))
+}
+
+/// Meshes and sets up a simulation of `cfg` (without the GIL); a mesh-size warning becomes a
+/// Python `UserWarning`.
+fn build(py: Python<'_>, cfg: &Config) -> PyResult<Simulation> {
+    let (sim, warning) = py
+        .detach(|| -> Result<_, Error> {
+            let mesh = mesh::generate(cfg)?;
+            let warning = mesh::max_size_warning(cfg, &mesh);
+            Ok((Simulation::from_config(cfg, mesh)?, warning))
+        })
+        .map_err(py_err)?;
+    if let Some(w) = warning {
+        PyErr::warn(py, &py.get_type::<PyUserWarning>(), &std::ffi::CString::new(w)?, 1)?;
+    }
+    Ok(sim)
+}
+
+/// What `__reduce__` returns: the function that rebuilds a simulation and its arguments (the
+/// configuration as TOML, the snapshot).
+type Reduced<'py> = (Bound<'py, PyAny>, (String, Bound<'py, PyBytes>));
+
+/// A deformable pendulum simulation (finite elements, hyperelastic, on a hinge under gravity).
+///
+/// `Simulation(config=None, **overrides)`: `config` is a TOML file (path), a dict of the CLI's
+/// configuration keys (nested sections or dotted keys) or `None` for the defaults; keyword
+/// overrides use the same keys (`Simulation(time={"dt": 0.005})`, `Simulation(**{"time.dt":
+/// 0.005})`) and win over `config`. A value of `None` leaves a key as it is.
+#[pyclass(module = "pendulum_fem", name = "Simulation")]
+pub struct PySimulation {
+    sim: Simulation,
+    config: Config,
+    head_nodes: Vec<usize>,
+}
+
+impl PySimulation {
+    fn from_config(py: Python<'_>, config: Config) -> PyResult<Self> {
+        let sim = build(py, &config)?;
+        let head_nodes = sim.model.mesh.nodes_on(HEAD_BOUNDARY);
+        Ok(Self {
+            sim,
+            config,
+            head_nodes,
+        })
+    }
+
+    /// Rebuilds the model with a torque input (before the first step only).
+    fn declare_torque_input(&mut self, py: Python<'_>) -> PyResult<()> {
+        if self.sim.step > 0 {
+            return Err(PyValueError::new_err(
+                "tau: this model has no torque input (torque.profile = \"none\") and has already stepped; \
+                 set tau before the first step, or declare the input up front with \
+                 Simulation(torque={\"profile\": \"constant\"})",
+            ));
+        }
+        let config = with_torque_input(&self.config);
+        let mesh = self.sim.model.mesh.clone();
+        self.sim = py.detach(|| Simulation::from_config(&config, mesh)).map_err(py_err)?;
+        self.config = config;
+        Ok(())
+    }
+
+    fn pairs<'py>(py: Python<'py>, flat: &[f64]) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        PyArray1::from_slice(py, flat).reshape([flat.len() / 2, 2])
+    }
+}
+
+#[pymethods]
+impl PySimulation {
+    #[new]
+    #[pyo3(signature = (config=None, **overrides))]
+    fn new(py: Python<'_>, config: Option<&Bound<'_, PyAny>>, overrides: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let mut path = None;
+        let mut sets = Vec::new();
+        if let Some(c) = config.filter(|c| !c.is_none()) {
+            if let Ok(dict) = c.cast::<PyDict>() {
+                flatten("", dict, &mut sets)?;
+            } else if c.is_instance_of::<PyString>() || c.hasattr("__fspath__")? {
+                let os = py.import("os")?;
+                let p: std::path::PathBuf = os.call_method1("fspath", (c,))?.extract()?;
+                path = Some(p);
+            } else {
+                return Err(PyValueError::new_err(format!(
+                    "config: a TOML file path, a dict or None, got a {}",
+                    c.get_type().name()?
+                )));
+            }
+        }
+        if let Some(kw) = overrides {
+            flatten("", kw, &mut sets)?;
+        }
+        let cfg = load_config(path, &sets)?;
+        Self::from_config(py, cfg)
+    }
+
+    /// Rebuilds a pickled simulation: its configuration (TOML) and its snapshot.
+    #[staticmethod]
+    fn _from_state(py: Python<'_>, config_toml: &str, snapshot: &[u8]) -> PyResult<Self> {
+        let cfg = Config::from_toml_str(config_toml).map_err(py_err)?;
+        let mut s = Self::from_config(py, cfg)?;
+        s.restore(snapshot)?;
+        Ok(s)
+    }
+
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Reduced<'py>> {
+        let rebuild = py.import("pendulum_fem")?.getattr("_rebuild_simulation")?;
+        Ok((rebuild, (config_toml(&self.config)?, self.snapshot(py))))
+    }
+
+    /// Advances by `dt` [s] (any finite `dt > 0`; the GIL is released) and returns the Newton
+    /// iterations of the step. `n` calls with the same `dt` land on `t0 + n·dt` exactly. A step that
+    /// fails raises `ConvergenceError` and leaves the state exactly as before.
+    fn step(&mut self, py: Python<'_>, dt: f64) -> PyResult<usize> {
+        let sim = &mut self.sim;
+        py.detach(|| sim.step(dt)).map_err(py_err)
+    }
+
+    /// Advances by one step that lands exactly on `t_end` [s] (after the current time).
+    fn step_to(&mut self, py: Python<'_>, t_end: f64) -> PyResult<usize> {
+        let sim = &mut self.sim;
+        py.detach(|| sim.step_to(t_end)).map_err(py_err)
+    }
+
+    /// Runs from the current state to `end` [s] in steps of `dt` (default: `time.dt`; a shorter last
+    /// step lands on `end` when it is not on the grid) and returns the rows of `results.csv` as a
+    /// dict of numpy columns named as its header, the current state first. From the start of a
+    /// `Simulation(cfg)` this is the CLI's `results.csv` for `time.end = end`, bit for bit. The GIL
+    /// is released; Ctrl-C stops at a step boundary (raising `KeyboardInterrupt`).
+    #[pyo3(signature = (end, dt=None))]
+    fn run<'py>(&mut self, py: Python<'py>, end: f64, dt: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
+        let dt = dt.unwrap_or(self.config.time.dt);
+        let t0 = self.sim.time();
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "run: dt = {dt} s; allowed dt > 0 and finite"
+            )));
+        }
+        if !(end >= t0 && end.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "run: end = {end} s is before the current time {t0} s"
+            )));
+        }
+        let time = pendulum_fem::config::Time {
+            dt,
+            end: end - t0,
+            ..self.config.time.clone()
+        };
+        let plan = StepPlan::of(&time);
+        // Ctrl-C reaches the main thread only: there, look for it every SIGNAL_CHECK of wall time
+        // (each look takes the GIL back for a moment); elsewhere never
+        let threading = py.import("threading")?;
+        let main_thread = threading
+            .call_method0("current_thread")?
+            .is(&threading.call_method0("main_thread")?);
+        let sim = &mut self.sim;
+        let rows = py.detach(|| -> PyResult<Vec<Vec<f64>>> {
+            let mut rows = Vec::with_capacity(plan.steps() + 1);
+            let its = sim.last_newton_iterations();
+            rows.push(csv_values(&sim.record(its)));
+            let mut looked = std::time::Instant::now();
+            for i in 0..plan.steps() {
+                if main_thread && looked.elapsed() >= SIGNAL_CHECK {
+                    Python::attach(|py| py.check_signals())?;
+                    looked = std::time::Instant::now();
+                }
+                let its = if i < plan.full { sim.step(dt) } else { sim.step_to(end) };
+                let its = its.map_err(py_err)?;
+                rows.push(csv_values(&sim.record(its)));
+            }
+            Ok(rows)
+        })?;
+        let columns = PyDict::new(py);
+        for (j, name) in StepRecord::HEADER.split(',').enumerate() {
+            let column: Vec<f64> = rows.iter().map(|r| r[j]).collect();
+            columns.set_item(name, PyArray1::from_vec(py, column))?;
+        }
+        Ok(columns)
+    }
+
+    /// The complete state as bytes (`pendulum_fem`'s snapshot format): `restore` makes the steps
+    /// after it bit for bit those of the simulation that never left.
+    fn snapshot<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        PyBytes::new(py, &self.sim.snapshot().to_bytes())
+    }
+
+    /// Restores a `snapshot()` of a simulation of the same model (configuration and mesh; a damaged
+    /// or foreign snapshot is a `ValueError`).
+    fn restore(&mut self, data: &[u8]) -> PyResult<()> {
+        let snap = Snapshot::from_bytes(data, "snapshot").map_err(py_err)?;
+        self.sim.restore(&snap).map_err(py_err)
+    }
+
+    /// Time of the current state [s].
+    #[getter]
+    fn time(&self) -> f64 {
+        self.sim.time()
+    }
+
+    /// Proxy angle (best-fit rotation about the pivot) [rad], counter-clockwise from hanging down,
+    /// unwrapped.
+    #[getter]
+    fn theta(&self) -> f64 {
+        self.sim.theta()
+    }
+
+    /// Best-fit angular velocity [rad/s].
+    #[getter]
+    fn omega(&mut self) -> f64 {
+        self.sim.angular_rates().0
+    }
+
+    /// Best-fit angular acceleration [rad/s²] (depends on the torque held now).
+    #[getter]
+    fn alpha(&mut self) -> f64 {
+        self.sim.angular_rates().1
+    }
+
+    /// Pivot torque [N m], counter-clockwise positive: the value held since it was last set, else the
+    /// `[torque]` profile's value now (0 without one). Setting it holds the value over the following
+    /// steps; on a model without a torque profile, setting it before the first step declares a
+    /// torque input (`torque.profile = "constant"`).
+    #[getter]
+    fn tau(&self) -> f64 {
+        self.sim
+            .held_torque()
+            .unwrap_or_else(|| self.sim.model.applied_torque(self.sim.time(), self.sim.held_torque()))
+    }
+
+    #[setter]
+    fn set_tau(&mut self, py: Python<'_>, value: f64) -> PyResult<()> {
+        if self.sim.model.torque.is_none() {
+            self.declare_torque_input(py)?;
+        }
+        self.sim.set_torque(value).map_err(py_err)
+    }
+
+    /// Gap between the head and the wall face [m], positive while apart (see the package README:
+    /// the tutorial's wall face `x = −geometry.head_radius` until the wall joins the model).
+    #[getter]
+    fn gap(&self) -> f64 {
+        contact_gap(&self.sim, &self.head_nodes)
+    }
+
+    /// Energies of the current state [J]: `kinetic`, `strain`, `gravity` (relative to the pivot
+    /// height), `total` (their sum) and `torque_work` (work of the torque since the start).
+    #[getter]
+    fn energies<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let e = self.sim.energies();
+        let d = PyDict::new(py);
+        d.set_item("kinetic", e.kinetic)?;
+        d.set_item("strain", e.strain)?;
+        d.set_item("gravity", e.gravity)?;
+        d.set_item("total", e.total)?;
+        d.set_item("torque_work", e.torque_work)?;
+        Ok(d)
+    }
+
+    /// Force of the hinge on the body `(fx, fy)` [N].
+    #[getter]
+    fn hinge_reaction(&self) -> (f64, f64) {
+        let [x, y] = self.sim.hinge_reaction();
+        (x, y)
+    }
+
+    /// Steps taken since the start.
+    #[getter]
+    fn steps(&self) -> usize {
+        self.sim.step
+    }
+
+    /// Newton iterations of the last step.
+    #[getter]
+    fn newton_iterations(&self) -> usize {
+        self.sim.last_newton_iterations()
+    }
+
+    /// Reference node coordinates, shape `(nodes, 2)` [m] (pivot at the origin, the body hanging
+    /// along −y; six-node triangles: vertices first, then mid-edge nodes).
+    #[getter]
+    fn nodes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let flat: Vec<f64> = self.sim.model.mesh.nodes.iter().flatten().copied().collect();
+        Self::pairs(py, &flat)
+    }
+
+    /// Triangles as node indices, shape `(triangles, 6)`: vertices counter-clockwise, then the
+    /// mid-edge nodes of the edges 0→1, 1→2, 2→0.
+    #[getter]
+    fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        let tris = &self.sim.model.mesh.triangles;
+        let flat: Vec<i64> = tris.iter().flatten().map(|&n| n as i64).collect();
+        PyArray1::from_vec(py, flat).reshape([tris.len(), 6])
+    }
+
+    /// Nodal displacement, shape `(nodes, 2)` [m] (a copy).
+    #[getter]
+    fn displacement<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        Self::pairs(py, self.sim.displacement())
+    }
+
+    /// Nodal velocity, shape `(nodes, 2)` [m/s] (a copy).
+    #[getter]
+    fn velocity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        Self::pairs(py, self.sim.velocity())
+    }
+
+    /// Nodal von Mises stress, shape `(nodes,)` [Pa] (computed on access).
+    #[getter]
+    fn von_mises<'py>(&mut self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_vec(py, self.sim.nodal_stress().von_mises)
+    }
+
+    /// Nodal Cauchy stress `[σxx, σyy, σxy]`, shape `(nodes, 3)` [Pa] (computed on access).
+    #[getter]
+    fn cauchy_stress<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let s = self.sim.nodal_stress().cauchy;
+        let n = s.len();
+        let flat: Vec<f64> = s.into_iter().flatten().collect();
+        PyArray1::from_vec(py, flat).reshape([n, 3])
+    }
+
+    /// Mass of the body [kg].
+    #[getter]
+    fn mass(&self) -> f64 {
+        self.sim.model.mass_kg()
+    }
+
+    /// Moment of inertia about the pivot [kg m²].
+    #[getter]
+    fn inertia(&self) -> f64 {
+        self.sim.model.inertia_pivot()
+    }
+
+    /// Centre of mass of the reference (hanging) body `(x, y)` [m], pivot at the origin: the moment
+    /// of gravity at a rigid rotation θ is `−m g d sin θ` with `d = |centre of mass|`.
+    #[getter]
+    fn center_of_mass(&self) -> (f64, f64) {
+        let p = &self.sim.model.projection;
+        (p.first_moment[0] / p.area, p.first_moment[1] / p.area)
+    }
+
+    /// The configuration in effect, as a dict of sections (a torque input declared by setting
+    /// `tau` shows as `torque.profile = "constant"`).
+    #[getter]
+    fn config<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let json = serde_json::to_string(&self.config).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        py.import("json")?.call_method1("loads", (json,))
+    }
+
+    /// The configuration in effect as TOML (for `pendulum-fem run --config`).
+    #[getter]
+    fn config_toml(&self) -> PyResult<String> {
+        config_toml(&self.config)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<pendulum_fem.Simulation t={} s, theta={:.6} rad, {} nodes, {} triangles>",
+            self.sim.time(),
+            self.sim.theta(),
+            self.sim.model.mesh.num_nodes(),
+            self.sim.model.mesh.triangles.len()
+        )
+    }
+}
+
+/// The header of `results.csv`: the column names of `Simulation.run`.
+#[pyfunction]
+fn csv_columns() -> Vec<&'static str> {
+    StepRecord::HEADER.split(',').collect()
+}
+
+/// The Rust extension module of the `pendulum_fem` package.
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PySimulation>()?;
+    m.add_function(wrap_pyfunction!(csv_columns, m)?)?;
+    m.add("ConvergenceError", m.py().get_type::<ConvergenceError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,218 @@
+"""The Python package: configuration, stepping, results, state and errors (issue 11, test 5)."""
+
+import pickle
+import subprocess
+import sys
+import threading
+
+import numpy as np
+import pytest
+
+import pendulum_fem
+from pendulum_fem import ConvergenceError, Simulation
+
+
+def bits(a):
+    """The IEEE bits of a float array (equal bits: bit-identical values, NaNs included)."""
+    return np.ascontiguousarray(np.asarray(a, dtype=np.float64)).view(np.int64)
+
+
+def state_of(sim):
+    """Everything observable about a state, as bits."""
+    e = sim.energies
+    scalars = [sim.time, sim.theta, sim.omega, sim.alpha, sim.tau, sim.gap] + [e[k] for k in sorted(e)]
+    return np.concatenate([bits(scalars), bits(sim.displacement).ravel(), bits(sim.velocity).ravel()])
+
+
+def test_run_equals_the_cli_results_csv_bit_for_bit(cli_results):
+    header, rows = cli_results
+    result = Simulation().run(1.0, 0.01)
+    assert list(result) == header == pendulum_fem.csv_columns()
+    expected = np.array(rows)
+    assert len(result["time_s"]) == len(rows) == 101
+    for j, name in enumerate(header):
+        got = result[name]
+        assert got.dtype == np.float64 and got.shape == (101,)
+        differ = np.flatnonzero(bits(got) != bits(expected[:, j]))
+        assert differ.size == 0, f"{name}: first difference at row {differ[0]}: {got[differ[0]]!r} != {expected[differ[0], j]!r}"
+
+
+def test_run_continues_from_the_current_state_and_lands_on_end():
+    sim = Simulation()
+    sim.step(0.01)
+    rows = sim.run(0.035, 0.01)
+    assert rows["time_s"][0] == 0.01
+    assert rows["time_s"][-1] == 0.035 == sim.time
+    assert len(rows["time_s"]) == 4  # 0.01, 0.02, 0.03, 0.035
+
+
+def test_snapshot_and_restore_continue_bit_for_bit():
+    sim = Simulation()
+    for _ in range(10):
+        sim.step(0.01)
+    snap = sim.snapshot()
+    assert isinstance(snap, bytes)
+    for _ in range(10):
+        sim.step(0.01)
+    first = state_of(sim)
+    sim.restore(snap)
+    assert sim.time == pytest.approx(0.1, abs=1e-15)
+    for _ in range(10):
+        sim.step(0.01)
+    assert np.array_equal(state_of(sim), first)
+    assert sim.snapshot() == Simulation._from_state(sim.config_toml, sim.snapshot()).snapshot()
+
+
+def test_pickle_round_trip_is_bit_identical():
+    sim = Simulation(torque={"profile": "constant", "amplitude": 0.2}, **{"initial.angle_deg": 35})
+    for _ in range(7):
+        sim.step(0.01)
+    copy = pickle.loads(pickle.dumps(sim))
+    assert copy.snapshot() == sim.snapshot()
+    assert copy.config == sim.config
+    assert np.array_equal(state_of(copy), state_of(sim))
+    for _ in range(5):
+        sim.step(0.01)
+        copy.step(0.01)
+    assert np.array_equal(state_of(copy), state_of(sim))
+
+
+def test_a_bad_key_raises_value_error_naming_it():
+    for make in (
+        lambda: Simulation(**{"material.youngs_modulu": 1e7}),
+        lambda: Simulation(material={"youngs_modulu": 1e7}),
+        lambda: Simulation({"material": {"youngs_modulu": 1e7}}),
+        lambda: Simulation({"material.youngs_modulu": 1e7}),
+    ):
+        with pytest.raises(ValueError, match=r"material\.youngs_modulu"):
+            make()
+    with pytest.raises(ValueError, match=r"materials"):
+        Simulation(**{"materials.youngs_modulus": 1e7})
+    with pytest.raises(ValueError, match=r"mesh\.max_size"):
+        Simulation(mesh={"max_size": -1.0})
+    with pytest.raises(ValueError, match=r"section\.name"):
+        Simulation(dt=0.01)
+
+
+def test_a_toml_file_a_dict_and_keywords_give_the_same_configuration(tmp_path):
+    path = tmp_path / "p.toml"
+    path.write_text('[material]\nyoungs_modulus = 1e9\nplane = "strain"\n[initial]\nangle_deg = 30\n')
+    from_file = Simulation(path)
+    from_str_path = Simulation(str(path))
+    from_dict = Simulation({"material": {"youngs_modulus": 1e9, "plane": "strain"}, "initial.angle_deg": 30})
+    from_keywords = Simulation(material={"youngs_modulus": 1e9, "plane": "strain"}, **{"initial.angle_deg": 30})
+    assert from_file.config == from_str_path.config == from_dict.config == from_keywords.config
+    assert from_file.config["material"]["youngs_modulus"] == 1e9
+    # keywords win over the file; None leaves a key alone
+    over = Simulation(path, **{"initial.angle_deg": 10, "time.dt": None})
+    assert over.config["initial"]["angle_deg"] == 10 and over.config["time"]["dt"] == 0.01
+    assert abs(over.theta - np.radians(10)) < 1e-6  # the soft body sags in its initial equilibrium
+    # the library reports an unreadable file as a configuration error
+    with pytest.raises(ValueError, match="nope.toml"):
+        Simulation(tmp_path / "nope.toml")
+
+
+def test_step_releases_the_gil():
+    sim = Simulation()
+    started, done = threading.Event(), threading.Event()
+
+    def work():
+        started.set()
+        sim.run(0.3, 0.01)  # 30 steps in one call
+        done.set()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    started.wait()
+    counted = 0
+    while not done.is_set():
+        counted += 1
+    worker.join()
+    assert counted > 1000, f"the main thread ran only {counted} loops while the worker stepped"
+
+
+def test_tau_declares_a_torque_input_before_the_first_step_and_is_refused_after():
+    sim = Simulation()
+    assert sim.tau == 0.0 and sim.config["torque"]["profile"] == "none"
+    sim.tau = 0.25
+    assert sim.tau == 0.25 and sim.config["torque"]["profile"] == "constant"
+    sim.step(0.01)
+    assert sim.run(0.02)["torque_Nm"][-1] == 0.25
+    late = Simulation()
+    late.step(0.01)
+    with pytest.raises(ValueError, match="torque"):
+        late.tau = 1.0
+    declared = Simulation(torque={"profile": "constant"})
+    declared.step(0.01)
+    declared.tau = 1.0
+    assert declared.tau == 1.0
+
+
+def test_alpha_follows_tau_at_once():
+    sim = Simulation()
+    sim.tau = 0.0
+    for _ in range(3):
+        sim.step(0.01)
+    a0 = sim.alpha
+    sim.tau = 1.0
+    # a rigid body: Δα = Δτ / I (the deformation changes I by far less than 1e-3)
+    assert sim.alpha - a0 == pytest.approx(1.0 / sim.inertia, rel=1e-3)
+
+
+def test_fields_are_numpy_arrays_shaped_by_the_mesh():
+    sim = Simulation()
+    sim.step(0.01)
+    n = sim.nodes.shape[0]
+    assert sim.nodes.shape == (n, 2) and sim.nodes.dtype == np.float64
+    assert sim.triangles.shape[1] == 6 and sim.triangles.dtype == np.int64
+    assert sim.triangles.min() == 0 and sim.triangles.max() == n - 1
+    assert sim.displacement.shape == sim.velocity.shape == (n, 2)
+    assert sim.von_mises.shape == (n,) and sim.von_mises.max() > 0
+    assert sim.cauchy_stress.shape == (n, 3)
+    e = sim.energies
+    assert set(e) == {"kinetic", "strain", "gravity", "total", "torque_work"}
+    assert e["total"] == pytest.approx(e["kinetic"] + e["strain"] + e["gravity"], rel=1e-15)
+    # the body at 20° from the hanging position: head arc well clear of the plane x = -r_head
+    x_head = sim.nodes[:, 0] + sim.displacement[:, 0]
+    assert 0.0 < sim.gap <= x_head.max() + 0.06
+    assert 0.5 < sim.mass < 2.0 and sim.center_of_mass[1] < -0.1
+    assert "Simulation" in repr(sim)
+
+
+def test_invalid_steps_raise_value_error_and_change_nothing():
+    sim = Simulation()
+    before = sim.snapshot()
+    for dt in (0.0, -0.01, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="dt"):
+            sim.step(dt)
+    assert sim.snapshot() == before
+    with pytest.raises(ValueError, match="snapshot"):
+        sim.restore(b"not a snapshot")
+    other = Simulation(**{"material.youngs_modulus": 1e9})
+    with pytest.raises(ValueError):
+        sim.restore(other.snapshot())
+    assert issubclass(ConvergenceError, RuntimeError)
+
+
+def test_importing_pendulum_fem_does_not_import_syssimx():
+    code = "import sys, pendulum_fem; pendulum_fem.Simulation; assert 'syssimx' not in sys.modules"
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_ctrl_c_stops_a_run_at_a_step_boundary():
+    code = """
+import os, signal, threading, time, pendulum_fem
+sim = pendulum_fem.Simulation()
+threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+start = time.perf_counter()
+try:
+    sim.run(100.0, 0.01)
+    raise SystemExit("run was not interrupted")
+except KeyboardInterrupt:
+    pass
+assert time.perf_counter() - start < 5.0, "the interrupt took too long"
+assert 0 < sim.steps < 10000 and abs(sim.time - sim.steps * 0.01) < 1e-9, (sim.steps, sim.time)
+sim.step(0.01)  # the simulation goes on
+print(sim.steps)
+"""
+    subprocess.run([sys.executable, "-c", code], check=True)

@@ -1,0 +1,88 @@
+//! The Python package (`crates/python`): builds its wheel with maturin into the test environment
+//! (`scripts/test-env`: a virtual environment with maturin, pytest, numpy and syssimx), installs it
+//! and runs its pytest suite (`crates/python/tests`). The suite compares `Simulation().run(1, 0.01)`
+//! with the `results.csv` that the CLI built here writes; any failure fails this test with pytest's
+//! output (nothing is skipped).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Runs `cmd` and returns its stdout; panics with everything it printed when it fails.
+fn run(cmd: &mut Command, what: &str) -> String {
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("{what}: cannot start {cmd:?}: {e}"));
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(
+        out.status.success(),
+        "{what} failed ({}):\n--- stdout ---\n{stdout}\n--- stderr ---\n{stderr}",
+        out.status
+    );
+    stdout
+}
+
+/// The CLI's `results.csv` of the default run to `time.end = 1` (no other outputs).
+fn cli_results(dir: &Path) -> PathBuf {
+    let out = dir.join("cli-run");
+    let _ = std::fs::remove_dir_all(&out);
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
+    cmd.args(["run", "--quiet", "--set", "time.end=1"]);
+    for key in ["plots", "animation", "paraview", "viewer"] {
+        cmd.args(["--set", &format!("output.{key}=false")]);
+    }
+    cmd.arg("--out").arg(&out);
+    run(&mut cmd, "pendulum-fem run");
+    out.join("results.csv")
+}
+
+#[test]
+fn python_package_builds_installs_and_passes_its_tests() {
+    let root = root();
+    let python = run(&mut Command::new(root.join("scripts/test-env")), "scripts/test-env");
+    let python = python.trim();
+    let scratch = root.join("target/python-test");
+    std::fs::create_dir_all(&scratch).unwrap();
+    let results = cli_results(&scratch);
+
+    // a fresh wheel folder, so that exactly the wheel built now is installed
+    let wheels = scratch.join("wheels");
+    let _ = std::fs::remove_dir_all(&wheels);
+    run(
+        Command::new(python)
+            .args(["-m", "maturin", "build", "--release", "--quiet", "--manifest-path"])
+            .arg(root.join("crates/python/Cargo.toml"))
+            .arg("--out")
+            .arg(&wheels),
+        "maturin build",
+    );
+    let wheel = std::fs::read_dir(&wheels)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "whl"))
+        .expect("maturin wrote a wheel");
+    run(
+        Command::new(python)
+            .args(["-m", "pip", "install", "--quiet", "--force-reinstall", "--no-deps"])
+            .arg(&wheel),
+        "pip install",
+    );
+    let report = run(
+        Command::new(python)
+            .args(["-m", "pytest", "-q", "-p", "no:cacheprovider"])
+            .arg(root.join("crates/python/tests"))
+            .env("PENDULUM_FEM_RESULTS_CSV", &results)
+            .current_dir(&scratch),
+        "pytest crates/python/tests",
+    );
+    let last = report.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or_default();
+    assert!(
+        last.contains("passed") && !last.contains("failed") && !last.contains("skipped"),
+        "pytest: {last}\n{report}"
+    );
+    println!("{report}");
+}
