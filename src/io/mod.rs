@@ -11,6 +11,7 @@ pub mod plot;
 pub mod pvd;
 mod raster;
 pub mod status;
+pub mod summary_plot;
 pub mod viewer;
 pub mod vtm;
 pub mod vtu;
