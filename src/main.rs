@@ -38,7 +38,7 @@ enum Command {
     /// Measure speed and memory (see `pendulum-fem bench --help`).
     Bench(BenchArgs),
     /// Run a parameter study: one run per case, in parallel or as job-array tasks, and a summary
-    /// table DIR/summary.csv with figures (see `pendulum-fem sweep --help`).
+    /// table DIR/summary.csv with figures (docs/sweep.md).
     Sweep(SweepArgs),
     /// Write a commented configuration file listing every key, its default and its unit.
     Init {

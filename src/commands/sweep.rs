@@ -21,6 +21,7 @@
 pub mod case;
 pub mod grid;
 mod plots;
+mod progress;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -32,6 +33,7 @@ pub use case::{CaseOptions, CaseRow, CaseStatus};
 pub use grid::Plan;
 
 use crate::{Config, Error};
+use progress::SweepProgress;
 
 /// The study's summary, one row per case.
 pub const SUMMARY_CSV: &str = "summary.csv";
@@ -101,31 +103,6 @@ impl Sweep {
         Ok(sweep)
     }
 
-    /// Rebuilds the study of a sweep folder from its [`CASES_CSV`] (the base configuration is not
-    /// stored there: enough to gather, not to run).
-    pub fn from_cases_csv(text: &str, name: &str) -> Result<Plan, Error> {
-        let err = |m: String| Error::Input(format!("{name}: {m}"));
-        let mut lines = text.lines();
-        let head = case::split_csv_line(lines.next().unwrap_or_default()).map_err(&err)?;
-        if head.first().map(String::as_str) != Some("case") {
-            return Err(err("the header must start with `case`".into()));
-        }
-        let keys = head[1..].to_vec();
-        let mut cases = Vec::new();
-        for (i, line) in lines.enumerate() {
-            let cells = case::split_csv_line(line).map_err(&err)?;
-            if cells.len() != head.len() || cells[0] != i.to_string() {
-                return Err(err(format!(
-                    "line {}: expected case {i} and {} values",
-                    i + 2,
-                    keys.len()
-                )));
-            }
-            cases.push(cells[1..].iter().map(|c| (!c.is_empty()).then(|| c.clone())).collect());
-        }
-        Ok(Plan { keys, cases })
-    }
-
     /// Number of cases.
     pub fn len(&self) -> usize {
         self.plan.len()
@@ -150,23 +127,7 @@ impl Sweep {
 
     /// The text of [`CASES_CSV`].
     pub fn cases_csv(&self) -> String {
-        let mut text = std::iter::once("case".to_string())
-            .chain(self.plan.keys.iter().map(|k| case::csv_field(k)))
-            .collect::<Vec<_>>()
-            .join(",");
-        text.push('\n');
-        for (k, values) in self.plan.cases.iter().enumerate() {
-            let cells: Vec<String> = std::iter::once(k.to_string())
-                .chain(
-                    values
-                        .iter()
-                        .map(|v| v.as_deref().map(case::csv_field).unwrap_or_default()),
-                )
-                .collect();
-            text.push_str(&cells.join(","));
-            text.push('\n');
-        }
-        text
+        self.plan.to_cases_csv()
     }
 
     /// Fails early on what would fail every case alike: an unreadable base file, and keys that are
@@ -521,7 +482,7 @@ pub fn gather(dir: &Path, plots: bool) -> Result<SweepReport, Error> {
         )),
         _ => Error::io(&path, e),
     })?;
-    let plan = Sweep::from_cases_csv(&text, &path.display().to_string())?;
+    let plan = Plan::from_cases_csv(&text, &path.display().to_string())?;
     let mut rows = Vec::with_capacity(plan.len());
     for k in 0..plan.len() {
         let row = case::read_row(&case_dir(dir, k))?
@@ -546,84 +507,4 @@ pub fn gather(dir: &Path, plots: bool) -> Result<SweepReport, Error> {
     report.skipped = report.cases - report.pending.len();
     report.seconds = start.elapsed().as_secs_f64();
     Ok(report)
-}
-
-/// Progress of the whole sweep on stderr: a bar on a terminal, otherwise a line per finished case
-/// (every tenth of the cases for more than 100) and every failure.
-struct SweepProgress {
-    bar: Option<indicatif::ProgressBar>,
-    lines: bool,
-    total: usize,
-    done: usize,
-    failed: usize,
-    start: Instant,
-}
-
-impl SweepProgress {
-    fn new(total: usize, skipped: usize, quiet: bool) -> Self {
-        use std::io::IsTerminal;
-        let terminal = !quiet && std::io::stderr().is_terminal();
-        let bar = terminal.then(|| {
-            let bar = indicatif::ProgressBar::with_draw_target(
-                Some(total as u64),
-                indicatif::ProgressDrawTarget::stderr_with_hz(10),
-            );
-            let style = indicatif::ProgressStyle::with_template(
-                "{elapsed_precise} [{wide_bar}] {pos}/{len} cases  {msg}  about {eta} left",
-            )
-            .expect("valid progress template")
-            .progress_chars("=> ");
-            bar.set_style(style);
-            bar.set_position(skipped as u64);
-            bar
-        });
-        if !quiet && skipped > 0 {
-            eprintln!("sweep: {skipped} of {total} cases finished before (kept)");
-        }
-        Self {
-            bar,
-            lines: !quiet && !terminal,
-            total,
-            done: skipped,
-            failed: 0,
-            start: Instant::now(),
-        }
-    }
-
-    fn case_done(&mut self, k: usize, row: &CaseRow) {
-        if !row.status.is_finished() {
-            return;
-        }
-        self.done += 1;
-        let failed = matches!(row.status, CaseStatus::Failed(_));
-        self.failed += usize::from(failed);
-        let seconds = row.metrics.wall_time_s.unwrap_or(0.0);
-        let line = match &row.status {
-            CaseStatus::Failed(m) => format!("case {k} failed after {seconds:.2} s: {m}"),
-            _ => format!("case {k} ok in {seconds:.2} s"),
-        };
-        if let Some(bar) = &self.bar {
-            if failed {
-                bar.println(&line);
-            }
-            bar.set_message(format!("{} failed", self.failed));
-            bar.set_position(self.done as u64);
-        } else if self.lines {
-            let tenth = self.total <= 100 || (self.done * 10 / self.total) != ((self.done - 1) * 10 / self.total);
-            if failed || tenth {
-                eprintln!(
-                    "[{}/{} cases, {:.1} s] {line}",
-                    self.done,
-                    self.total,
-                    self.start.elapsed().as_secs_f64()
-                );
-            }
-        }
-    }
-
-    fn finish(self) {
-        if let Some(bar) = self.bar {
-            bar.finish();
-        }
-    }
 }

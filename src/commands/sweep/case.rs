@@ -444,10 +444,23 @@ fn run_config(varied: Vec<(String, String)>, cfg: Config, dir: &Path, opts: &Cas
         stop: opts.stop.clone(),
         ..Default::default()
     };
+    // a panic in one case (a bug) is that case's failure, not the end of the study
+    let run = || {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| crate::commands::run::run(&run_opts))).unwrap_or_else(
+            |panic| {
+                let what = panic
+                    .downcast_ref::<&str>()
+                    .map(|s| s.to_string())
+                    .or_else(|| panic.downcast_ref::<String>().cloned())
+                    .unwrap_or_default();
+                Err(Error::Input(format!("the run panicked: {what}")))
+            },
+        )
+    };
     let result = match opts.threads {
-        0 => crate::commands::run::run(&run_opts),
+        0 => run(),
         n => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
-            Ok(pool) => pool.install(|| crate::commands::run::run(&run_opts)),
+            Ok(pool) => pool.install(run),
             Err(e) => Err(Error::Input(format!("a thread pool of {n} threads: {e}"))),
         },
     };

@@ -144,6 +144,53 @@ impl Plan {
             .collect()
     }
 
+    /// The text of a sweep folder's `cases.csv`: `case,<keys…>`, then the case number and the
+    /// literals of each case (empty where the case keeps the base value).
+    pub fn to_cases_csv(&self) -> String {
+        let mut text = std::iter::once("case".to_string())
+            .chain(self.keys.iter().map(|k| super::case::csv_field(k)))
+            .collect::<Vec<_>>()
+            .join(",");
+        text.push('\n');
+        for (k, values) in self.cases.iter().enumerate() {
+            let cells: Vec<String> = std::iter::once(k.to_string())
+                .chain(
+                    values
+                        .iter()
+                        .map(|v| v.as_deref().map(super::case::csv_field).unwrap_or_default()),
+                )
+                .collect();
+            text.push_str(&cells.join(","));
+            text.push('\n');
+        }
+        text
+    }
+
+    /// Reads the plan back from the text of a sweep folder's `cases.csv` ([`Plan::to_cases_csv`]);
+    /// errors name the file (`name`) and the line.
+    pub fn from_cases_csv(text: &str, name: &str) -> Result<Plan, Error> {
+        let err = |m: String| Error::Input(format!("{name}: {m}"));
+        let mut lines = text.lines();
+        let head = super::case::split_csv_line(lines.next().unwrap_or_default()).map_err(&err)?;
+        if head.first().map(String::as_str) != Some("case") {
+            return Err(err("the header must start with `case`".into()));
+        }
+        let keys = head[1..].to_vec();
+        let mut cases = Vec::new();
+        for (i, line) in lines.enumerate() {
+            let cells = super::case::split_csv_line(line).map_err(&err)?;
+            if cells.len() != head.len() || cells[0] != i.to_string() {
+                return Err(err(format!(
+                    "line {}: expected case {i} and {} values",
+                    i + 2,
+                    keys.len()
+                )));
+            }
+            cases.push(cells[1..].iter().map(|c| (!c.is_empty()).then(|| c.clone())).collect());
+        }
+        Ok(Plan { keys, cases })
+    }
+
     /// `(key, value as shown in summary.csv)` of case `k`: strings without their quotes, numbers as
     /// typed, an empty value where the case keeps the base value.
     pub fn shown(&self, k: usize) -> Vec<(String, String)> {
@@ -494,6 +541,7 @@ mod tests {
         let zipped = a.clone().zip(parse_vary("x.c=4:6:3").unwrap()).unwrap();
         assert_eq!(zipped.overrides(2), ["x.a=3", "x.c=6"]);
         assert!(a.clone().product(a).unwrap_err().to_string().contains("twice"));
+        assert_eq!(Plan::from_cases_csv(&grid.to_cases_csv(), "cases.csv").unwrap(), grid);
     }
 
     #[test]
@@ -533,6 +581,7 @@ material.model = "saint-venant-kirchhoff"
         );
         assert_eq!(p.shown(1)[2].1, "saint-venant-kirchhoff");
         assert_eq!(p.shown(0)[1].1, "", "a key the case leaves alone");
+        assert_eq!(&Plan::from_cases_csv(&p.to_cases_csv(), "cases.csv").unwrap(), p);
         let e = parse_sweep_file("[vary]\nx.y = \"1:2\"\n", "s.toml", None)
             .unwrap_err()
             .to_string();
