@@ -493,6 +493,57 @@ fn an_interrupted_sweep_resumed_gives_the_summary_of_an_uninterrupted_one() {
 }
 
 #[test]
+fn resume_keeps_cases_whose_outputs_changed_and_refuses_cases_run_with_another_configuration() {
+    let dir = scratch("stale");
+    let out = dir.join("sweep");
+    let args = [
+        "--quiet",
+        "--no-plots",
+        "--vary",
+        "initial.angle_deg=10,20",
+        "--set",
+        "time.end=0.05",
+    ];
+    let o = bin().arg("sweep").args(args).arg("--out").arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = bin()
+        .arg("sweep")
+        .args(args)
+        .args(["--resume", "--all-outputs"])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "other outputs are no other cases: {}", stderr(&o));
+    let o = bin()
+        .arg("sweep")
+        .args(args)
+        .args(["--resume", "--set", "time.dt=0.005"])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("case-0000 was run with another configuration"),
+        "{}",
+        stderr(&o)
+    );
+    let o = bin()
+        .args(["sweep", "--quiet", "--vary", "initial.angle_deg=10,30"])
+        .arg("--out")
+        .arg(&out)
+        .arg("--resume")
+        .output()
+        .unwrap();
+    assert!(
+        !o.status.success() && stderr(&o).contains("another sweep"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
 fn bad_vary_arguments_name_the_argument_and_the_allowed_forms() {
     for bad in [
         "material.youngs_modulus",
