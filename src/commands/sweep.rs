@@ -23,7 +23,6 @@ pub mod grid;
 mod plots;
 mod progress;
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -336,7 +335,6 @@ pub fn run_sweep(sweep: &Sweep, opts: &SweepOptions) -> Result<SweepReport, Erro
     let state = Mutex::new(State {
         rows,
         last_write: Instant::now(),
-        write_error: None,
     });
     let next = AtomicUsize::new(0);
     let stopped = || opts.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst));
@@ -363,9 +361,8 @@ pub fn run_sweep(sweep: &Sweep, opts: &SweepOptions) -> Result<SweepReport, Erro
                     let mut s = state.lock().expect("sweep state");
                     s.rows[k] = Some(row);
                     if s.last_write.elapsed() > Duration::from_secs(2) {
-                        if let Err(e) = write_summary(&opts.out, sweep, &s.rows) {
-                            s.write_error.get_or_insert(e);
-                        }
+                        // best effort: the final write below reports a failure
+                        let _ = write_summary(&opts.out, sweep, &s.rows);
                         s.last_write = Instant::now();
                     }
                 }
@@ -374,9 +371,6 @@ pub fn run_sweep(sweep: &Sweep, opts: &SweepOptions) -> Result<SweepReport, Erro
     });
     progress.into_inner().expect("progress").finish();
     let state = state.into_inner().expect("sweep state");
-    if let Some(e) = state.write_error {
-        return Err(e);
-    }
     let summary = write_summary(&opts.out, sweep, &state.rows)?;
     let rows = full_rows(sweep, &state.rows);
     let plots = match opts.plots {
@@ -386,10 +380,9 @@ pub fn run_sweep(sweep: &Sweep, opts: &SweepOptions) -> Result<SweepReport, Erro
     let mut report = report_of(&opts.out, &rows, summary, plots);
     report.skipped = skipped;
     report.ran = todo.len() - report.pending.len();
-    report.interrupted = stopped();
+    report.interrupted = stopped() && !report.pending.is_empty();
     report.seconds = start.elapsed().as_secs_f64();
     report.jobs = jobs;
-    let _ = std::io::stderr().flush();
     Ok(report)
 }
 
@@ -397,7 +390,6 @@ pub fn run_sweep(sweep: &Sweep, opts: &SweepOptions) -> Result<SweepReport, Erro
 struct State {
     rows: Vec<Option<CaseRow>>,
     last_write: Instant,
-    write_error: Option<Error>,
 }
 
 /// Every case's row: the finished ones, `pending` for the others.
