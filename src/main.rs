@@ -37,6 +37,9 @@ enum Command {
     },
     /// Measure speed and memory (see `pendulum-fem bench --help`).
     Bench(BenchArgs),
+    /// Run a parameter study: one run per case, in parallel or as job-array tasks, and a summary
+    /// table DIR/summary.csv with figures (docs/sweep.md).
+    Sweep(SweepArgs),
     /// Write a commented configuration file listing every key, its default and its unit.
     Init {
         /// File to write (default: pendulum.toml).
@@ -79,6 +82,219 @@ struct RunArgs {
     /// pendulum.pvd (the configuration from DIR/checkpoint.toml; `--set time.end=…` runs longer).
     #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "force", "config"])]
     restart: Option<PathBuf>,
+}
+
+/// `sweep`: the cases come from `--vary` (and `--file`); each runs in DIR/case-NNNN.
+#[derive(Args, Debug)]
+struct SweepArgs {
+    #[command(flatten)]
+    cfg: ConfigArgs,
+    /// Vary a configuration key (any depth): KEY=VALUES with VALUES a list `1e6,1e7,2.1e11`, a
+    /// linear range `10:60:6` (start:stop:count) or a log range `1e6..2.1e11:8`
+    /// (start..stop:count). Several form the full grid, the first varying slowest (repeatable).
+    #[arg(long, value_name = "KEY=VALUES")]
+    vary: Vec<String>,
+    /// Pair the values of the --vary keys (the k-th of each) instead of forming the grid.
+    #[arg(long)]
+    zip: bool,
+    /// A sweep file (TOML): `[vary]` (KEY = "VALUES" or a list) or `[[case]]` tables, and optional
+    /// `config`, `set`, `zip` (see docs/sweep.md).
+    #[arg(long, value_name = "FILE")]
+    file: Option<PathBuf>,
+    /// Sweep folder: DIR/cases.csv, DIR/case-NNNN/, DIR/summary.csv, DIR/summary_*.png.
+    #[arg(long, short = 'o', value_name = "DIR", default_value = "sweep")]
+    out: PathBuf,
+    /// Cases run at once (default: the number of cores).
+    #[arg(long, short = 'j', value_name = "N")]
+    jobs: Option<usize>,
+    /// Threads per case (element loops, sparse factorisation).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    threads: usize,
+    /// Continue the sweep in --out: finished cases (ok or failed) are kept, the others run.
+    #[arg(long)]
+    resume: bool,
+    /// Print the number of cases and exit (for `--array=0-$((N-1))`).
+    #[arg(long, conflicts_with_all = ["resume", "case_index"])]
+    list: bool,
+    /// Run case K only (0 to N-1), a job-array task; `--gather` builds the summary afterwards.
+    /// Without it, taken from SLURM_ARRAY_TASK_ID, PBS_ARRAY_INDEX or LSB_JOBINDEX - 1 when set.
+    #[arg(long, value_name = "K")]
+    case_index: Option<usize>,
+    /// Build DIR/summary.csv and the figures from the case folders of the sweep in DIR.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["vary", "file", "zip", "list", "case_index", "resume", "config", "set"])]
+    gather: Option<PathBuf>,
+    /// Keep the plots, animations, ParaView frames and viewer the configuration asks for in every
+    /// case (default: only results.csv, status.json, config.toml and the case's summary row).
+    #[arg(long)]
+    all_outputs: bool,
+    /// No summary_*.png figures.
+    #[arg(long)]
+    no_plots: bool,
+    /// No progress output.
+    #[arg(long, short = 'q')]
+    quiet: bool,
+}
+
+/// The case index of a job-array task from the scheduler's environment: Slurm's and PBS's as they
+/// are (submit `--array=0-<N-1>`, `-J 0-<N-1>`), LSF's minus one (its indices start at 1; a job
+/// that is no array has `LSB_JOBINDEX=0`).
+fn array_index() -> Result<Option<(usize, &'static str)>, Error> {
+    for (var, offset) in [("SLURM_ARRAY_TASK_ID", 0), ("PBS_ARRAY_INDEX", 0), ("LSB_JOBINDEX", 1)] {
+        let Ok(text) = std::env::var(var) else { continue };
+        let k: usize = text
+            .trim()
+            .parse()
+            .map_err(|_| Error::Config(format!("{var}={text}: not a case index (a whole number >= {offset})")))?;
+        if offset == 1 && k == 0 {
+            continue;
+        }
+        return Ok(Some((k - offset, var)));
+    }
+    Ok(None)
+}
+
+fn sweep(args: SweepArgs) -> Result<ExitCode, Error> {
+    use pendulum_fem::commands::sweep::{self as sw, CaseOptions, CaseStatus, Sweep, SweepOptions};
+    if let Some(dir) = &args.gather {
+        let r = sw::gather(dir, !args.no_plots)?;
+        println!(
+            "pendulum-fem sweep --gather: {} cases, {} ok, {} failed, {} without a result; summary in {}",
+            r.cases,
+            r.ok,
+            r.failed.len(),
+            r.pending.len(),
+            r.summary.display()
+        );
+        return Ok(sweep_exit(&r.failed, &r.pending, r.cases, &r.summary));
+    }
+    if args.jobs == Some(0) || args.threads == 0 {
+        return Err(Error::Config(
+            "sweep --jobs / --threads 0: allowed N >= 1 (--jobs defaults to the number of cores)".into(),
+        ));
+    }
+    let mut study = Sweep::new(
+        args.cfg.config.clone(),
+        args.cfg.set.clone(),
+        &args.vary,
+        args.zip,
+        args.file.as_deref(),
+    )?;
+    study.all_outputs = args.all_outputs;
+    if args.list {
+        println!("{}", study.len());
+        return Ok(ExitCode::SUCCESS);
+    }
+    let stop = Arc::new(AtomicBool::new(false));
+    let index = match args.case_index {
+        Some(k) => Some(k),
+        None => array_index()?.map(|(k, var)| {
+            if !args.quiet {
+                eprintln!("sweep: case {k} (from {var}); --case-index K names one explicitly");
+            }
+            k
+        }),
+    };
+    if let Some(k) = index {
+        install_stop_handler(stop.clone(), "stopping the case after the current step");
+        let opts = CaseOptions {
+            threads: args.threads,
+            stop: Some(stop),
+        };
+        let row = sw::run_case_index(&study, &args.out, k, args.resume, &opts)?;
+        let dir = sw::case_dir(&args.out, k);
+        return Ok(match &row.status {
+            CaseStatus::Failed(m) => {
+                eprintln!(
+                    "error: case {k} of {} failed: {m} (row in {})",
+                    study.len(),
+                    dir.display()
+                );
+                ExitCode::FAILURE
+            }
+            CaseStatus::Ok => {
+                println!(
+                    "pendulum-fem sweep: case {k} of {} ok in {:.3} s; results in {} (`sweep --gather {}` when all are done)",
+                    study.len(),
+                    row.metrics.wall_time_s.unwrap_or(0.0),
+                    dir.display(),
+                    args.out.display()
+                );
+                ExitCode::SUCCESS
+            }
+            _ => {
+                eprintln!("case {k} interrupted; run it again (with --resume it is skipped once finished)");
+                ExitCode::from(EXIT_INTERRUPTED)
+            }
+        });
+    }
+    install_stop_handler(
+        stop.clone(),
+        "stopping the running cases after their current step; finished cases and the summary are kept (--resume runs the rest)",
+    );
+    let opts = SweepOptions {
+        out: args.out.clone(),
+        jobs: args.jobs.unwrap_or(0),
+        threads: args.threads,
+        resume: args.resume,
+        quiet: args.quiet,
+        plots: !args.no_plots,
+        stop: Some(stop),
+    };
+    let r = sw::run_sweep(&study, &opts)?;
+    let minutes = r.seconds / 60.0;
+    println!(
+        "pendulum-fem sweep: {} cases ({} run now on {} workers, {} finished before), {} ok, {} failed, in {:.2} s ({:.1} cases per minute)",
+        r.cases,
+        r.ran,
+        r.jobs,
+        r.skipped,
+        r.ok,
+        r.failed.len(),
+        r.seconds,
+        if minutes > 0.0 { r.ran as f64 / minutes } else { 0.0 }
+    );
+    println!("  summary            {}", r.summary.display());
+    for p in &r.plots {
+        println!("  figure             {}", p.display());
+    }
+    if r.interrupted {
+        eprintln!(
+            "sweep interrupted: {} of {} cases finished; `pendulum-fem sweep … --out {} --resume` runs the rest",
+            r.cases - r.pending.len(),
+            r.cases,
+            r.out.display()
+        );
+        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+    }
+    Ok(sweep_exit(&r.failed, &r.pending, r.cases, &r.summary))
+}
+
+/// Failure when any case failed or has no result, saying how many.
+fn sweep_exit(failed: &[usize], pending: &[usize], cases: usize, summary: &std::path::Path) -> ExitCode {
+    let list = |v: &[usize]| {
+        let shown: Vec<String> = v.iter().take(20).map(|k| k.to_string()).collect();
+        format!("{}{}", shown.join(", "), if v.len() > 20 { ", …" } else { "" })
+    };
+    if !failed.is_empty() {
+        eprintln!(
+            "error: {} of {cases} cases failed (cases {}; messages in {})",
+            failed.len(),
+            list(failed),
+            summary.display()
+        );
+    }
+    if !pending.is_empty() {
+        eprintln!(
+            "error: {} of {cases} cases have no result (cases {})",
+            pending.len(),
+            list(pending)
+        );
+    }
+    if failed.is_empty() && pending.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
 }
 
 #[derive(Args, Debug)]
@@ -199,16 +415,15 @@ fn print_summary(s: &RunSummary) {
 /// Exit code of a run stopped by Ctrl-C or SIGTERM (128 + SIGINT, the shell's convention).
 const EXIT_INTERRUPTED: u8 = 130;
 
-/// Sets `stop` on the first Ctrl-C / SIGTERM / SIGHUP; a second one exits at once.
-fn install_stop_handler(stop: Arc<AtomicBool>) {
+/// Sets `stop` on the first Ctrl-C / SIGTERM / SIGHUP (saying `what` happens now); a second one
+/// exits at once.
+fn install_stop_handler(stop: Arc<AtomicBool>, what: &'static str) {
     let installed = ctrlc::set_handler(move || {
         if stop.swap(true, Ordering::SeqCst) {
             eprintln!("\ninterrupted again: exiting at once (outputs may be incomplete)");
             std::process::exit(i32::from(EXIT_INTERRUPTED));
         }
-        eprintln!(
-            "\ninterrupted: stopping after the current step and finishing the outputs (Ctrl-C again: exit at once)"
-        );
+        eprintln!("\ninterrupted: {what} (Ctrl-C again: exit at once)");
     });
     if let Err(e) = installed {
         eprintln!("warning: no Ctrl-C handler ({e}); an interrupt will stop the run without finishing its outputs");
@@ -237,7 +452,10 @@ fn run(args: RunArgs) -> Result<bool, Error> {
         None => load(&args.cfg)?,
     };
     let stop = Arc::new(AtomicBool::new(false));
-    install_stop_handler(stop.clone());
+    install_stop_handler(
+        stop.clone(),
+        "stopping after the current step and finishing the outputs",
+    );
     let opts = RunOptions {
         config,
         out: args.restart.clone().or_else(|| args.out.clone()),
@@ -291,6 +509,7 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => interrupted(run(args)),
         Some(Command::Init { file, force }) => init(file, force).map(|()| ExitCode::SUCCESS),
         Some(Command::Bench(args)) => bench(args).map(|()| ExitCode::SUCCESS),
+        Some(Command::Sweep(args)) => sweep(args),
         Some(Command::Mesh { cfg, out, json }) => load(&cfg)
             .and_then(|c| pendulum_fem::commands::mesh::mesh_command(&c, &out, json))
             .map(|()| ExitCode::SUCCESS),

@@ -133,7 +133,7 @@ fn init_writes_a_commented_configuration_that_reads_back_as_the_defaults() {
 fn help_lists_every_subcommand() {
     let o = bin().arg("--help").output().unwrap();
     let text = String::from_utf8_lossy(&o.stdout);
-    for sub in ["run", "mesh", "init", "bench"] {
+    for sub in ["run", "mesh", "init", "bench", "sweep"] {
         assert!(text.contains(sub), "--help lacks {sub}: {text}");
     }
 }

@@ -105,7 +105,10 @@ fn a_stiff_contact_leaves_a_fifth_of_the_energy_in_vibration_and_rebounds_lower(
     let drift = energy_drift(&records);
     let end = events(sim.contact_events(), ContactEventKind::End)[0];
     let (t, deg) = peaks(&records)[0];
-    println!("stiff: drift {drift:.2e}, penetration {:e} m, rebound {deg}° at {t} s", end.penetration);
+    println!(
+        "stiff: drift {drift:.2e}, penetration {:e} m, rebound {deg}° at {t} s",
+        end.penetration
+    );
     // reference: 6.3 µm, 17.40° ± 0.03° at 0.4786 s (about 20 % of the kinetic energy stays in
     // the pendulum's elastic vibration), total energy conserved
     assert!(drift < 1e-2, "energy drift {drift:e}");
@@ -132,8 +135,16 @@ fn a_compliant_pendulum_flattens_against_the_wall_without_a_failed_step() {
     // the head flattens: the largest strain energy during an impact against the largest away
     // from the wall
     let in_contact = |r: &StepRecord| r.contact.is_some_and(|c| c.gap < 0.0);
-    let strain_contact = records.iter().filter(|r| in_contact(r)).map(|r| r.strain).fold(0.0, f64::max);
-    let strain_free = records.iter().filter(|r| r.time < 0.2).map(|r| r.strain).fold(0.0, f64::max);
+    let strain_contact = records
+        .iter()
+        .filter(|r| in_contact(r))
+        .map(|r| r.strain)
+        .fold(0.0, f64::max);
+    let strain_free = records
+        .iter()
+        .filter(|r| r.time < 0.2)
+        .map(|r| r.strain)
+        .fold(0.0, f64::max);
     println!(
         "compliant: {} impacts, energy drift {drift:.2e} of the largest kinetic energy, largest strain energy \
          {strain_contact:.3e} J in contact vs {strain_free:.3e} J swinging free",

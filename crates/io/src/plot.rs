@@ -145,10 +145,14 @@ pub fn write_energy_png(path: &Path, h: &History) -> Result<(), Error> {
     render_png(path, ENERGY_SIZE, |root| draw_energy(root, h))
 }
 
-type Root<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
-type DrawResult = Result<(), Box<dyn std::error::Error>>;
+pub(crate) type Root<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+pub(crate) type DrawResult = Result<(), Box<dyn std::error::Error>>;
 
-fn render_png(path: &Path, size: (u32, u32), draw: impl FnOnce(&Root<'_>) -> DrawResult) -> Result<(), Error> {
+pub(crate) fn render_png(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&Root<'_>) -> DrawResult,
+) -> Result<(), Error> {
     font::register_for_plotters();
     let mut buf = vec![255u8; size.0 as usize * size.1 as usize * 3];
     {
@@ -172,7 +176,7 @@ fn plot_error(path: &Path, e: impl std::fmt::Display) -> Error {
 }
 
 /// `[lo, hi]` of the values, widened when flat, padded by 5 %.
-fn range_of<'a>(values: impl IntoIterator<Item = &'a f64>) -> (f64, f64) {
+pub(crate) fn range_of<'a>(values: impl IntoIterator<Item = &'a f64>) -> (f64, f64) {
     let (mut lo, mut hi) = values
         .into_iter()
         .filter(|v| v.is_finite())
@@ -190,7 +194,7 @@ fn range_of<'a>(values: impl IntoIterator<Item = &'a f64>) -> (f64, f64) {
 }
 
 /// Axis label text for a value on an axis spanning `span` (decimals for about five ticks).
-fn axis_label(v: f64, span: f64) -> String {
+pub(crate) fn axis_label(v: f64, span: f64) -> String {
     if v.abs() <= 1e-9 * span {
         "0".into()
     } else if !(1e-3..1e5).contains(&span) {

@@ -26,9 +26,9 @@ use pyo3::exceptions::{PyOSError, PyRuntimeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-use pendulum_fem_io::run::{csv_values, StepPlan};
 use pendulum_fem::config::TorqueProfile;
 use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot, StepRecord};
+use pendulum_fem_io::run::{csv_values, StepPlan};
 
 pyo3::create_exception!(
     pendulum_fem,
