@@ -18,8 +18,10 @@
 //! at the end, so that it is always a consistent table; the figures `summary_<key>.png` (every
 //! metric against each numeric varied key) are drawn at the end.
 
-pub mod case;
-pub mod grid;
+/// One case and its summary row (in `pendulum-fem-io`, shared with the Python package).
+pub use pendulum_fem_io::study::case;
+/// The grid of cases (in `pendulum-fem-io`).
+pub use pendulum_fem_io::study::grid;
 mod plots;
 mod progress;
 

@@ -23,6 +23,7 @@ pub mod pvd;
 mod raster;
 pub mod run;
 pub mod status;
+pub mod study;
 pub mod summary_plot;
 pub mod viewer;
 pub mod vtm;

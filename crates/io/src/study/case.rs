@@ -22,7 +22,7 @@
 //! The varied keys (values as given), then [`METRICS`]: final time \[s\], steps, Newton
 //! iterations, wall time \[s\], smallest and largest θ \[deg\], period \[s\] (empty when θ crossed
 //! zero fewer than twice), largest von Mises stress \[Pa\], energy error (see
-//! [`crate::commands::run::EnergyAudit`]); then [`WALL_METRICS`] (number of impacts, largest
+//! [`crate::run::EnergyAudit`]); then [`WALL_METRICS`] (number of impacts, largest
 //! contact force \[N\]) when a wall is on (`wall.kind` other than `"none"`); then `status`
 //! (`ok`, `failed`, `interrupted`, `pending`) and `message` (the error of a failed case). A
 //! failed case keeps the final time and the steps it reached; its other metrics are empty.
@@ -33,8 +33,8 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::commands::run::{RunEnd, RunOptions, RunSummary};
-use crate::io::status::{error_chain, RunStatus, STATUS_JSON};
+use crate::run::{RunEnd, RunOptions, RunSummary};
+use crate::status::{error_chain, RunStatus, STATUS_JSON};
 use crate::{Config, Error};
 
 /// This case's row of the study's summary, in the case folder.
@@ -424,14 +424,14 @@ fn prepare(dir: &Path) -> Result<(), Error> {
             _ => {}
         }
     }
-    crate::io::outdir::clear_run_outputs(dir)
+    crate::outdir::clear_run_outputs(dir)
 }
 
 fn run_config(varied: Vec<(String, String)>, cfg: Config, dir: &Path, opts: &CaseOptions) -> CaseRow {
     let wall = has_wall(&cfg);
     let written = config_text(&cfg).and_then(|text| {
         let path = dir.join(CASE_CONFIG);
-        crate::io::vtu::write_atomically(&path, |w| w.write_all(text.as_bytes()))
+        crate::vtu::write_atomically(&path, |w| w.write_all(text.as_bytes()))
     });
     if let Err(e) = written {
         return CaseRow::without_metrics(varied, CaseStatus::Failed(one_line(&error_chain(&e))));
@@ -446,16 +446,14 @@ fn run_config(varied: Vec<(String, String)>, cfg: Config, dir: &Path, opts: &Cas
     };
     // a panic in one case (a bug) is that case's failure, not the end of the study
     let run = || {
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| crate::commands::run::run(&run_opts))).unwrap_or_else(
-            |panic| {
-                let what = panic
-                    .downcast_ref::<&str>()
-                    .map(|s| s.to_string())
-                    .or_else(|| panic.downcast_ref::<String>().cloned())
-                    .unwrap_or_default();
-                Err(Error::Input(format!("the run panicked: {what}")))
-            },
-        )
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| crate::run::run(&run_opts))).unwrap_or_else(|panic| {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_default();
+            Err(Error::Input(format!("the run panicked: {what}")))
+        })
     };
     let result = match opts.threads {
         0 => run(),
@@ -503,7 +501,7 @@ pub fn metrics_of(s: &RunSummary, wall: Option<WallMetrics>) -> Metrics {
 /// column that is absent gives an empty cell.
 // TODO(wall): once the wall lands, take both from the run summary if it reports them.
 fn wall_metrics(dir: &Path) -> WallMetrics {
-    let Ok((names, rows)) = crate::io::csv::read_numeric_csv(&dir.join("results.csv")) else {
+    let Ok((names, rows)) = crate::csv::read_numeric_csv(&dir.join("results.csv")) else {
         return WallMetrics::default();
     };
     let column = |name: &str| names.iter().position(|n| n == name);
@@ -517,7 +515,7 @@ fn wall_metrics(dir: &Path) -> WallMetrics {
 fn write_row(dir: &Path, row: &CaseRow) -> Result<(), Error> {
     let keys: Vec<String> = row.varied.iter().map(|(k, _)| k.clone()).collect();
     let text = format!("{}\n{}\n", header(&keys, row.has_wall()), row.csv_line(row.has_wall()));
-    crate::io::vtu::write_atomically(&dir.join(CASE_SUMMARY), |w| w.write_all(text.as_bytes()))
+    crate::vtu::write_atomically(&dir.join(CASE_SUMMARY), |w| w.write_all(text.as_bytes()))
 }
 
 /// A message on one line (a summary row per case).
