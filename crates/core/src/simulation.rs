@@ -137,7 +137,28 @@ impl Model {
     pub fn with_bodies(config: &Config, mesh: Mesh, others: &[BodySpec]) -> Result<Self, Error> {
         config.validate()?;
         let pendulum_mesh = mesh;
-        let (mesh, bodies) = body::build(config, pendulum_mesh, others)?;
+        let mut others = others.to_vec();
+        if config.wall.kind == WallKind::Deformable {
+            // the contact tutorial's block: a second body, held on its left, top and bottom edges
+            let w = &config.wall;
+            others.insert(
+                0,
+                BodySpec {
+                    name: "wall".into(),
+                    mesh: crate::mesh::block::wall_block(w),
+                    material: crate::config::Material {
+                        youngs_modulus: w.youngs_modulus,
+                        poisson_ratio: w.poisson_ratio,
+                        density: w.density,
+                        ..config.material.clone()
+                    },
+                    thickness: w.thickness,
+                    gravity: true,
+                    fixed: vec![crate::mesh::block::FIXED.into()],
+                },
+            );
+        }
+        let (mesh, bodies) = body::build(config, pendulum_mesh, &others)?;
         let hinge = Hinge::new(&bodies[0].mesh, HINGE_BOUNDARY)?;
         let extra_terms: Vec<Box<dyn Term>> = Vec::new();
         let mut torque = None;
@@ -160,13 +181,21 @@ impl Model {
                 Some(wall)
             }
             WallKind::Deformable => {
-                return Err(Error::Config(
-                    "wall.kind = \"deformable\" is not available yet; allowed: \"none\", \"rigid\"".into(),
-                ))
+                let mut wall = RigidWall::deformable(
+                    &mesh,
+                    CONTACT_BOUNDARY,
+                    crate::mesh::block::FACE,
+                    config.contact.stiffness,
+                    config.geometry.thickness,
+                    config.contact.points_per_edge,
+                    0.5 * config.geometry.head_radius,
+                )?;
+                wall.end_point = config.contact.method == ContactMethod::Penalty;
+                Some(wall)
             }
         };
         let mut fingerprint = snapshot::fingerprint(config, &mesh);
-        for spec in others {
+        for spec in &others {
             // the other bodies' settings are not in the configuration
             let settings = format!(
                 "{:?} {} {} {:?}",

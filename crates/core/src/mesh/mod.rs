@@ -16,6 +16,7 @@
 //! Jacobians and angles as methods of [`Mesh`]), [`mod@bench`] (timings).
 
 pub mod bench;
+pub mod block;
 pub mod generate;
 pub mod gmsh_read;
 mod measure;

@@ -46,7 +46,23 @@ struct ContactPoint {
     weight: f64,
 }
 
-/// The rigid wall `x ≤ x_w` against the named boundary (see the module doc).
+/// The deformable wall's face: the nodes of its contact edge, sorted by reference `y`, as a
+/// polyline (straight pieces between consecutive nodes).
+#[derive(Clone, Debug)]
+struct Face {
+    nodes: Vec<usize>,
+}
+
+/// A point's gap and its gradient over its local degrees of freedom.
+struct Local {
+    g: f64,
+    dofs: [usize; 10],
+    grad: [f64; 10],
+    n: usize,
+}
+
+/// The wall `x ≤ x_w` against the named boundary (see the module doc); rigid, or with the face of
+/// a deformable body ([`RigidWall::deformable`]).
 #[derive(Clone, Debug)]
 pub struct RigidWall {
     /// `x_w`, the wall's face \[m\].
@@ -57,6 +73,12 @@ pub struct RigidWall {
     /// `contact.method = "penalty"`), not the secant; it does not conserve energy.
     pub end_point: bool,
     points: Vec<ContactPoint>,
+    /// The deformable wall's face, if the wall is a body.
+    face: Option<Face>,
+    /// Degrees of freedom whose couplings the Hessian writes (see [`Term::hessian_entries`]).
+    coupled: Vec<usize>,
+    /// Reference coordinates of the mesh's nodes \[m\].
+    reference: Vec<[f64; 2]>,
 }
 
 impl RigidWall {
@@ -97,12 +119,118 @@ impl RigidWall {
             stiffness,
             end_point: false,
             points,
+            face: None,
+            coupled: Vec::new(),
+            reference: mesh.nodes.clone(),
         })
     }
 
-    fn gap(&self, p: &ContactPoint, u: &[f64]) -> f64 {
+    /// The contact of the boundary `name` of `mesh` with the face `face_name` of a deformable body
+    /// in the same mesh (its nodes in the model's numbering). The gap of a head point is its
+    /// distance in `x` to the face's polyline at its own height (the face is the vertical edge of
+    /// the block; points above or below it are apart). The Hessian couples the `x` components of
+    /// the head's nodes within `reach` of its leftmost point and of the face's nodes within `reach`
+    /// of their heights: the Jacobian of the pairs that can touch; the gradient is exact for all.
+    #[allow(clippy::too_many_arguments)]
+    pub fn deformable(
+        mesh: &Mesh,
+        name: &str,
+        face_name: &str,
+        stiffness: f64,
+        thickness: f64,
+        points_per_edge: usize,
+        reach: f64,
+    ) -> Result<Self, Error> {
+        let mut nodes = mesh.nodes_on(face_name);
+        if nodes.len() < 2 {
+            return Err(Error::Mesh(format!(
+                "the mesh has no boundary named \"{face_name}\" for the wall's contact face"
+            )));
+        }
+        nodes.sort_by(|a, b| mesh.nodes[*a][1].total_cmp(&mesh.nodes[*b][1]));
+        let face_x = mesh.nodes[nodes[0]][0];
+        let mut wall = Self::new(mesh, name, face_x, stiffness, thickness, points_per_edge)?;
+        let head = mesh.nodes_on(name);
+        let left = head.iter().map(|&n| mesh.nodes[n][0]).fold(f64::INFINITY, f64::min);
+        let near: Vec<usize> = head.into_iter().filter(|&n| mesh.nodes[n][0] < left + reach).collect();
+        let (lo, hi) = near.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &n| {
+            (lo.min(mesh.nodes[n][1]), hi.max(mesh.nodes[n][1]))
+        });
+        let facing = nodes
+            .iter()
+            .copied()
+            .filter(|&n| (lo - reach..=hi + reach).contains(&mesh.nodes[n][1]));
+        wall.coupled = near.iter().copied().chain(facing).map(|n| 2 * n).collect();
+        wall.coupled.sort_unstable();
+        wall.face = Some(Face { nodes });
+        Ok(wall)
+    }
+
+    /// The face segment `[j, j+1]` at height `y` of the current configuration, if within the face.
+    fn segment(&self, face: &Face, y: f64, u: &[f64], mesh_nodes: &[[f64; 2]]) -> Option<usize> {
+        let yy = |k: usize| mesh_nodes[face.nodes[k]][1] + u[2 * face.nodes[k] + 1];
+        let n = face.nodes.len();
+        if y < yy(0) || y > yy(n - 1) {
+            return None;
+        }
+        // the face's heights stay in order (it deforms by micrometres)
+        let (mut lo, mut hi) = (0, n - 1);
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            if yy(mid) <= y {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Some(lo)
+    }
+
+    /// The gap of point `p` at `u` and its gradient; `seg`: the face segment to use (`None`: the
+    /// one at the point's height). `None` when the point is above or below the face.
+    fn local(&self, p: &ContactPoint, u: &[f64], seg: Option<usize>) -> Option<Local> {
         let ux: f64 = (0..3).map(|a| p.basis[a] * u[2 * p.nodes[a]]).sum();
-        p.x_ref + ux - self.face_x
+        let mut l = Local {
+            g: 0.0,
+            dofs: [0; 10],
+            grad: [0.0; 10],
+            n: 3,
+        };
+        for a in 0..3 {
+            l.dofs[a] = 2 * p.nodes[a];
+            l.grad[a] = p.basis[a];
+        }
+        let Some(face) = &self.face else {
+            l.g = p.x_ref + ux - self.face_x;
+            return Some(l);
+        };
+        let xy = &self.reference;
+        let y: f64 = (0..3)
+            .map(|a| p.basis[a] * (xy[p.nodes[a]][1] + u[2 * p.nodes[a] + 1]))
+            .sum();
+        let j = match seg {
+            Some(j) => j,
+            None => self.segment(face, y, u, xy)?,
+        };
+        let (a, b) = (face.nodes[j], face.nodes[j + 1]);
+        let (xa, ya) = (xy[a][0] + u[2 * a], xy[a][1] + u[2 * a + 1]);
+        let (xb, yb) = (xy[b][0] + u[2 * b], xy[b][1] + u[2 * b + 1]);
+        let dy = yb - ya;
+        let slope = (xb - xa) / dy;
+        let s = (y - ya) / dy;
+        l.g = p.x_ref + ux - (xa + s * (xb - xa));
+        for k in 0..3 {
+            l.dofs[3 + k] = 2 * p.nodes[k] + 1;
+            l.grad[3 + k] = -slope * p.basis[k];
+        }
+        l.dofs[6..10].copy_from_slice(&[2 * a, 2 * b, 2 * a + 1, 2 * b + 1]);
+        l.grad[6..10].copy_from_slice(&[-(1.0 - s), -s, slope * (1.0 - s), slope * s]);
+        l.n = 10;
+        Some(l)
+    }
+
+    fn gap(&self, p: &ContactPoint, u: &[f64]) -> f64 {
+        self.local(p, u, None).map_or(f64::INFINITY, |l| l.g)
     }
 
     fn density(&self, g: f64) -> f64 {
@@ -211,27 +339,47 @@ impl Term for RigidWall {
 
     fn add_gradient(&self, u: &[f64], _cx: &StepContext, g: &mut [f64]) {
         for p in &self.points {
-            let f = p.weight * self.stiffness * self.gap(p, u).min(0.0);
-            for a in 0..3 {
-                g[2 * p.nodes[a]] += f * p.basis[a];
+            let Some(l) = self.local(p, u, None) else {
+                continue;
+            };
+            let f = p.weight * self.stiffness * l.g.min(0.0);
+            for i in 0..l.n {
+                g[l.dofs[i]] += f * l.grad[i];
             }
         }
     }
 
+    /// `k w ∇g ∇gᵀ` of the penetrating points (for the deformable face without the gap's own
+    /// curvature, and only in the coupled entries: an approximate Jacobian, as Newton allows).
     fn add_hessian(&self, u: &[f64], _cx: &StepContext, pattern: &Pattern, values: &mut [f64]) {
         for p in &self.points {
-            let active = if self.gap(p, u) < 0.0 { 1.0 } else { 0.0 };
-            let c = active * p.weight * self.stiffness;
-            for a in 0..3 {
-                for b in 0..3 {
-                    let (r, col) = (2 * p.nodes[a], 2 * p.nodes[b]);
-                    if r <= col {
-                        let pos = pattern.position(r, col).expect("the nodes of an edge share an element");
-                        values[pos] += c * p.basis[a] * p.basis[b];
+            let Some(l) = self.local(p, u, None).filter(|l| l.g < 0.0) else {
+                continue;
+            };
+            let c = p.weight * self.stiffness;
+            for i in 0..l.n {
+                for j in 0..l.n {
+                    let (r, col) = (l.dofs[i], l.dofs[j]);
+                    if r > col {
+                        continue;
+                    }
+                    match pattern.position(r, col) {
+                        Some(pos) => values[pos] += c * l.grad[i] * l.grad[j],
+                        None => debug_assert!(self.face.is_some(), "the nodes of an edge share an element"),
                     }
                 }
             }
         }
+    }
+
+    fn hessian_entries(&self) -> Vec<(usize, usize)> {
+        let mut e = Vec::new();
+        for (i, &a) in self.coupled.iter().enumerate() {
+            for &b in &self.coupled[i..] {
+                e.push((a, b));
+            }
+        }
+        e
     }
 
     /// The secant of each point's energy along its gap (see the module doc).
@@ -244,16 +392,55 @@ impl Term for RigidWall {
         factor: f64,
         g: &mut [f64],
     ) -> f64 {
+        let mid: Vec<f64> = match self.face {
+            Some(_) => start.u.iter().zip(u1).map(|(a, b)| 0.5 * (a + b)).collect(),
+            None => Vec::new(),
+        };
         for p in &self.points {
-            let (g0, g1) = (self.gap(p, start.u), self.gap(p, u1));
-            let secant = if self.end_point {
-                self.stiffness * g1.min(0.0)
-            } else {
-                self.secant(g0, g1)
+            // the face segment of the step: the one at the mid-step height (the same for both ends,
+            // so that the secant below is exact for the gap it uses)
+            let seg = match &self.face {
+                Some(face) => {
+                    let y: f64 = (0..3)
+                        .map(|a| p.basis[a] * (self.reference[p.nodes[a]][1] + mid[2 * p.nodes[a] + 1]))
+                        .sum();
+                    match self.segment(face, y, &mid, &self.reference) {
+                        Some(j) => Some(j),
+                        None => continue,
+                    }
+                }
+                None => None,
             };
+            let (Some(l0), Some(l1)) = (self.local(p, start.u, seg), self.local(p, u1, seg)) else {
+                continue;
+            };
+            let secant = if self.end_point {
+                self.stiffness * l1.g.min(0.0)
+            } else {
+                self.secant(l0.g, l1.g)
+            };
+            if secant == 0.0 {
+                continue;
+            }
             let f = factor * p.weight * secant;
-            for a in 0..3 {
-                g[2 * p.nodes[a]] += f * p.basis[a];
+            let mut grad = l1.grad;
+            if self.face.is_some() && !self.end_point {
+                // a discrete gradient of the gap (it is nonlinear in u for the deformable face):
+                // the mid-step gradient corrected along Δu so that ∇ᵈg·Δu = g₁ − g₀ exactly
+                let lm = self.local(p, &mid, seg).expect("the segment exists at mid-step");
+                let du: Vec<f64> = (0..l1.n).map(|i| u1[l1.dofs[i]] - start.u[l1.dofs[i]]).collect();
+                let lin: f64 = (0..l1.n).map(|i| lm.grad[i] * du[i]).sum();
+                let norm2: f64 = du.iter().map(|d| d * d).sum();
+                grad = lm.grad;
+                if norm2 > 0.0 {
+                    let c = (l1.g - l0.g - lin) / norm2;
+                    for i in 0..l1.n {
+                        grad[i] += c * du[i];
+                    }
+                }
+            }
+            for i in 0..l1.n {
+                g[l1.dofs[i]] += f * grad[i];
             }
         }
         self.energy(u1, cx)
