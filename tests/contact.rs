@@ -169,6 +169,13 @@ fn the_deformable_face_contact_gradient_matches_finite_differences() {
     );
     // every degree of freedom that carries a force, head and face, against central differences
     // of the energy with a 1 nm step (no point changes contact state or face segment)
+    // the Jacobian couples head and face nodes (entries listed by the term, in the pattern)
+    let mut k = vec![0.0; pattern.nnz()];
+    term.add_hessian(&u, &cx, &pattern, &mut k);
+    let couples = term.hessian_entries().iter().any(|&(r, c)| {
+        r < 2 * first && c >= 2 * first && k[pattern.position(r, c).expect("listed")] != 0.0
+    });
+    assert!(couples, "no head–face stiffness");
     let dofs: Vec<usize> = (0..u.len()).filter(|&i| g[i] != 0.0).collect();
     assert!(dofs.iter().any(|&d| d >= 2 * first) && dofs.iter().any(|&d| d < 2 * first));
     for &d in &dofs {
