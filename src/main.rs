@@ -389,6 +389,9 @@ fn print_summary(s: &RunSummary) {
         None => println!("  period estimate    - (fewer than two zero crossings)"),
     }
     println!("  max von Mises      {:.4e} Pa", s.von_mises_max);
+    if let Some((impacts, force)) = s.contact {
+        println!("  wall               {impacts} impacts, largest contact force {force:.4e} N (events.csv)");
+    }
     println!(
         "  energy error       {:.3e} of the energy scale {:.4e} J (max |energy change - torque work|)",
         s.energy_error, s.energy_scale

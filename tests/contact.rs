@@ -172,9 +172,10 @@ fn the_deformable_face_contact_gradient_matches_finite_differences() {
     // the Jacobian couples head and face nodes (entries listed by the term, in the pattern)
     let mut k = vec![0.0; pattern.nnz()];
     term.add_hessian(&u, &cx, &pattern, &mut k);
-    let couples = term.hessian_entries().iter().any(|&(r, c)| {
-        r < 2 * first && c >= 2 * first && k[pattern.position(r, c).expect("listed")] != 0.0
-    });
+    let couples = term
+        .hessian_entries()
+        .iter()
+        .any(|&(r, c)| r < 2 * first && c >= 2 * first && k[pattern.position(r, c).expect("listed")] != 0.0);
     assert!(couples, "no head–face stiffness");
     let dofs: Vec<usize> = (0..u.len()).filter(|&i| g[i] != 0.0).collect();
     assert!(dofs.iter().any(|&d| d >= 2 * first) && dofs.iter().any(|&d| d < 2 * first));

@@ -78,6 +78,8 @@ pub struct RunSummary {
     pub period: Option<f64>,
     /// Largest von Mises stress over the run \[Pa\].
     pub von_mises_max: f64,
+    /// With a wall: the impacts and the largest contact force over the records \[N\].
+    pub contact: Option<(usize, f64)>,
     /// Largest energy error over the run, `max |E(t) − E(0) − W(t)| / energy_scale` (see
     /// [`EnergyAudit`]).
     pub energy_error: f64,
@@ -257,7 +259,7 @@ fn resume(dir: &std::path::Path, sim: &mut Simulation) -> Result<Resumed, Error>
 }
 
 /// Header of `events.csv`.
-pub const EVENTS_HEADER: &str = "time_s,event,theta_rad,omega_rad_s,impulse_N_s,max_penetration_m";
+pub const EVENTS_HEADER: &str = "time_s,event,theta_rad,omega_rad_s,impulse_N_s,max_penetration_m,max_force_N";
 
 /// Writes `events.csv` (every contact event so far; replaced atomically, so that a stopped or
 /// restarted run leaves it whole).
@@ -265,13 +267,14 @@ fn write_events(dir: &std::path::Path, events: &[pendulum_fem_core::simulation::
     let mut text = format!("{EVENTS_HEADER}\n");
     for e in events {
         text.push_str(&format!(
-            "{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{}\n",
             e.time,
             e.kind.name(),
             e.theta,
             e.omega,
             e.impulse,
-            e.penetration
+            e.penetration,
+            e.force
         ));
     }
     crate::vtu::write_atomically(&dir.join("events.csv"), |w| w.write_all(text.as_bytes()))
@@ -511,6 +514,12 @@ fn run_steps(
         summary.theta_range.1 = summary.theta_range.1.max(record.theta);
         summary.von_mises_max = summary.von_mises_max.max(record.von_mises_max);
         summary.theta_final = record.theta;
+        if let Some(c) = record.contact {
+            // the peaks between the records are in the events
+            let peaks = sim.contact_events().iter().map(|e| e.force).fold(0.0, f64::max);
+            let largest = summary.contact.map_or(0.0, |(_, f)| f);
+            summary.contact = Some((c.impacts, largest.max(c.force).max(peaks)));
+        }
         let error = audit.push(&record);
         if cfg.output.energy_watchdog > 0.0 && error > cfg.output.energy_watchdog {
             break Err(audit.divergence(&record, cfg.output.energy_watchdog));
@@ -552,6 +561,9 @@ fn run_steps(
             first_error.get_or_insert(e);
         }
         seconds_outputs += t_out.elapsed().as_secs_f64();
+    }
+    if sim.model.wall.is_some() {
+        summary.files.push(out_dir.join("events.csv"));
     }
     match csv.finish() {
         Ok(path) => summary.files.push(path),

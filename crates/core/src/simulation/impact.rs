@@ -73,6 +73,8 @@ pub struct ContactEvent {
     pub impulse: f64,
     /// Largest penetration over the impact at the sub-step ends \[m\] (0 at its start).
     pub penetration: f64,
+    /// Largest normal force of the wall over the impact at the sub-step ends \[N\] (0 at its start).
+    pub force: f64,
 }
 
 /// An impact in progress.
@@ -94,6 +96,8 @@ pub(super) struct ContactPhase {
     pub impulse: f64,
     /// Largest penetration so far \[m\].
     pub penetration: f64,
+    /// Largest normal force so far \[N\].
+    pub force: f64,
 }
 
 impl Simulation {
@@ -191,6 +195,7 @@ impl Simulation {
             penetrated: false,
             impulse: 0.0,
             penetration: 0.0,
+            force: 0.0,
         });
     }
 
@@ -201,6 +206,7 @@ impl Simulation {
         let u1 = &self.state.u;
         let force = wall.step_force(u0, u1);
         let (gap0, gap1) = (wall.smallest_gap(u0), wall.smallest_gap(u1));
+        let normal = wall.normal_force(u1);
         let now = self.state.t;
         let (omega, _) = self.angular_rates();
         let theta = self.theta;
@@ -209,6 +215,7 @@ impl Simulation {
         };
         phase.impulse += force * h;
         phase.penetration = phase.penetration.max(-gap1);
+        phase.force = phase.force.max(normal);
         if !phase.penetrated && gap1 < 0.0 {
             phase.penetrated = true;
             self.impacts += 1;
@@ -219,6 +226,7 @@ impl Simulation {
                 omega,
                 impulse: 0.0,
                 penetration: 0.0,
+                force: 0.0,
             });
         }
         if phase.penetrated && gap1 >= 0.0 && phase.separated.is_none() {
@@ -239,6 +247,7 @@ impl Simulation {
                 omega,
                 impulse: phase.impulse,
                 penetration: phase.penetration,
+                force: phase.force,
             });
             self.contact_phase = None;
             return;
@@ -270,6 +279,7 @@ impl Simulation {
                 penetrated: false,
                 impulse: 0.0,
                 penetration: 0.0,
+                force: 0.0,
             });
         }
         self.contact_progress(u0, h);

@@ -346,6 +346,7 @@ impl Snapshot {
             w.f64(e.omega);
             w.f64(e.impulse);
             w.f64(e.penetration);
+            w.f64(e.force);
         }
         match self.contact_phase {
             Some(p) => {
@@ -358,6 +359,7 @@ impl Snapshot {
                 w.u8(u8::from(p.penetrated));
                 w.f64(p.impulse);
                 w.f64(p.penetration);
+                w.f64(p.force);
             }
             None => w.u8(0),
         }
@@ -447,6 +449,7 @@ impl Snapshot {
                 omega: r.f64("event")?,
                 impulse: r.f64("event")?,
                 penetration: r.f64("event")?,
+                force: r.f64("event")?,
             });
         }
         let contact_phase = if r.flag("contact")? {
@@ -459,6 +462,7 @@ impl Snapshot {
                 penetrated: r.flag("contact")?,
                 impulse: r.f64("contact")?,
                 penetration: r.f64("contact")?,
+                force: r.f64("contact")?,
             })
         } else {
             None

@@ -497,9 +497,9 @@ pub fn metrics_of(s: &RunSummary, wall: Option<WallMetrics>) -> Metrics {
 }
 
 /// Impacts and the largest contact force of a run with a wall, from its `results.csv` columns
-/// `impacts` (the count so far: the last value) and `contact_force_N` (the largest value); a
-/// column that is absent gives an empty cell.
-// TODO(wall): once the wall lands, take both from the run summary if it reports them.
+/// `impacts` (the count so far: the last value) and `contact_force_N` (the largest value, or the
+/// largest `max_force_N` of `events.csv`, the peaks between the steps); a column that is absent
+/// gives an empty cell.
 fn wall_metrics(dir: &Path) -> WallMetrics {
     let Ok((names, rows)) = crate::csv::read_numeric_csv(&dir.join("results.csv")) else {
         return WallMetrics::default();
@@ -507,8 +507,22 @@ fn wall_metrics(dir: &Path) -> WallMetrics {
     let column = |name: &str| names.iter().position(|n| n == name);
     WallMetrics {
         impacts: column("impacts").and_then(|c| rows.last().map(|r| r[c])),
-        contact_force_max_n: column("contact_force_N").and_then(|c| rows.iter().map(|r| r[c]).reduce(f64::max)),
+        // the step ends sample an impact rarely: its peak force is in events.csv
+        contact_force_max_n: column("contact_force_N")
+            .and_then(|c| rows.iter().map(|r| r[c]).reduce(f64::max))
+            .map(|f| f.max(peak_event_force(dir))),
     }
+}
+
+/// The largest `max_force_N` of `events.csv` (0 without events).
+fn peak_event_force(dir: &Path) -> f64 {
+    let Ok(text) = std::fs::read_to_string(dir.join("events.csv")) else {
+        return 0.0;
+    };
+    text.lines()
+        .skip(1)
+        .filter_map(|l| l.rsplit(',').next()?.parse::<f64>().ok())
+        .fold(0.0, f64::max)
 }
 
 /// Writes the case's [`CASE_SUMMARY`] (atomically).
