@@ -277,7 +277,9 @@ impl Instance {
         }
         let w = self.value_of(Role::WallKind);
         if !(0.0..=2.0).contains(&w) {
-            return Err(format!("wall_kind = {w}: allowed 0 (none), 1 (rigid) or 2 (deformable)"));
+            return Err(format!(
+                "wall_kind = {w}: allowed 0 (none), 1 (rigid) or 2 (deformable)"
+            ));
         }
         let t = self.value_of(Role::ThetaStart);
         if !(-2.0 * std::f64::consts::PI..=2.0 * std::f64::consts::PI).contains(&t) {
