@@ -1,8 +1,9 @@
 //! The Python package (`crates/python`): builds its wheel with maturin into the test environment
 //! (`scripts/test-env`: a virtual environment with maturin, pytest, numpy and syssimx), installs it
 //! and runs its pytest suite (`crates/python/tests`). The suite compares `Simulation().run(1, 0.01)`
-//! with the `results.csv` that the CLI built here writes; any failure fails this test with pytest's
-//! output (nothing is skipped).
+//! with the `results.csv` that the CLI built here writes, and the same with the rigid wall
+//! (`results.csv` and `events.csv`); any failure fails this test with pytest's output (nothing is
+//! skipped).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -26,18 +27,22 @@ fn run(cmd: &mut Command, what: &str) -> String {
     stdout
 }
 
-/// The CLI's `results.csv` of the default run to `time.end = 1` (no other outputs).
-fn cli_results(dir: &Path) -> PathBuf {
-    let out = dir.join("cli-run");
+/// The CLI's output folder (`results.csv`, and `events.csv` with a wall) of the default run to
+/// `time.end = 1` with the overrides `sets` (no other outputs), in `dir/name`.
+fn cli_results(dir: &Path, name: &str, sets: &[&str]) -> PathBuf {
+    let out = dir.join(name);
     let _ = std::fs::remove_dir_all(&out);
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
     cmd.args(["run", "--quiet", "--set", "time.end=1"]);
+    for set in sets {
+        cmd.args(["--set", set]);
+    }
     for key in ["plots", "animation", "paraview", "viewer"] {
         cmd.args(["--set", &format!("output.{key}=false")]);
     }
     cmd.arg("--out").arg(&out);
     run(&mut cmd, "pendulum-fem run");
-    out.join("results.csv")
+    out
 }
 
 #[test]
@@ -47,7 +52,8 @@ fn python_package_builds_installs_and_passes_its_tests() {
     let python = python.trim();
     let scratch = root.join("target/python-test");
     std::fs::create_dir_all(&scratch).unwrap();
-    let results = cli_results(&scratch);
+    let results = cli_results(&scratch, "cli-run", &[]).join("results.csv");
+    let wall = cli_results(&scratch, "cli-run-wall", &["wall.kind=\"rigid\""]);
 
     // a fresh wheel folder, so that exactly the wheel built now is installed
     let wheels = scratch.join("wheels");
@@ -76,6 +82,8 @@ fn python_package_builds_installs_and_passes_its_tests() {
             .args(["-m", "pytest", "-q", "-p", "no:cacheprovider"])
             .arg(root.join("crates/python/tests"))
             .env("PENDULUM_FEM_RESULTS_CSV", &results)
+            .env("PENDULUM_FEM_WALL_RESULTS_CSV", wall.join("results.csv"))
+            .env("PENDULUM_FEM_WALL_EVENTS_CSV", wall.join("events.csv"))
             .current_dir(&scratch),
         "pytest crates/python/tests",
     );

@@ -422,6 +422,7 @@ fn base_units(unit: &str) -> [i32; 4] {
         "N.m" | "J" => [1, 2, -2, 0],
         "Pa" => [1, -1, -2, 0],
         "kg/m3" => [1, -3, 0, 0],
+        "N/m3" => [1, -2, -2, 0],
         "m/s2" => [0, 1, -2, 0],
         other => panic!("unit {other} has no base units in variables::base_units"),
     }

@@ -115,6 +115,45 @@ fn cli_theta_csv(overrides: &[String], path: &Path) {
     std::fs::write(path, text).expect("reference written");
 }
 
+/// θ at 20° in radians: the FMU's default `theta_start` (the CLI's `initial.angle_deg = 20`).
+const THETA_START: f64 = 0.3490658503988659;
+
+/// The CLI's run with the rigid wall (`--set wall.kind="rigid"` and `overrides`), stepped as the CLI
+/// steps (`step(time.dt)` from `t = 0`): its `results.csv` columns `time_s,theta_rad,gap_m,
+/// contact_force_N,impacts` at every step into `results`, and its `events.csv` (the same rows and
+/// formatting as the CLI's) into `events`.
+fn cli_wall_run(overrides: &[String], results: &Path, events: &Path) {
+    let mut sets = vec!["wall.kind=\"rigid\"".to_string()];
+    sets.extend_from_slice(overrides);
+    let cfg = Config::load(None, &sets).expect("valid overrides");
+    let mut sim = Simulation::from_config(&cfg, mesh::generate(&cfg).expect("mesh")).expect("model");
+    let mut text = String::from("time_s,theta_rad,gap_m,contact_force_N,impacts\n");
+    let row = |sim: &mut Simulation, its: usize| {
+        let r = sim.record(its);
+        let c = r.contact.expect("a model with a wall records its contact");
+        format!("{:?},{:?},{:?},{:?},{}\n", r.time, r.theta, c.gap, c.force, c.impacts)
+    };
+    text += &row(&mut sim, 0);
+    for _ in 0..cfg.time.steps() {
+        let its = sim.step(cfg.time.dt).expect("step");
+        text += &row(&mut sim, its);
+    }
+    std::fs::write(results, text).expect("reference written");
+    let mut rows = String::from("time_s,event,theta_rad,omega_rad_s,impulse_N_s,max_penetration_m\n");
+    for e in sim.contact_events() {
+        rows += &format!(
+            "{},{},{},{},{},{}\n",
+            e.time,
+            e.kind.name(),
+            e.theta,
+            e.omega,
+            e.impulse,
+            e.penetration
+        );
+    }
+    std::fs::write(events, rows).expect("events written");
+}
+
 #[test]
 fn fmpy_validates_the_fmu_and_its_simulation_reproduces_the_cli_theta() {
     // theta_start = 0.35 rad is initial.angle_deg = 0.35.to_degrees() for the CLI, as the FMU sets it
@@ -168,4 +207,37 @@ fn syssimx_pd_loop_settles_on_the_static_balance_and_rolls_back_exactly() {
 #[test]
 fn errors_reach_the_importer_as_fmi2error_with_a_logged_reason() {
     run_script("errors_through_c.py", &[fmu().display().to_string()]);
+}
+
+#[test]
+fn fmpy_with_the_rigid_wall_reproduces_the_cli_theta_gap_and_impacts() {
+    let angle = format!("initial.angle_deg={:?}", THETA_START.to_degrees());
+    let plain = vec![angle, "time.end=1.0".into()];
+    let mut torque = plain.clone();
+    torque.extend(["torque.profile=\"constant\"".to_string(), "torque.amplitude=0.0".into()]);
+    let dir = scratch();
+    let (cli, cli_torque) = (dir.join("cli_wall.csv"), dir.join("cli_wall_zero_torque.csv"));
+    cli_wall_run(&plain, &cli, &dir.join("cli_wall_events.csv"));
+    cli_wall_run(&torque, &cli_torque, &dir.join("cli_wall_zero_torque_events.csv"));
+    run_script(
+        "wall_simulate.py",
+        &[
+            fmu().display().to_string(),
+            cli.display().to_string(),
+            cli_torque.display().to_string(),
+        ],
+    );
+}
+
+#[test]
+fn syssimx_hybrid_algorithm_locates_the_wall_impacts_the_cli_reports() {
+    // the CLI's own settings (no torque term), as `pendulum-fem run --set wall.kind="rigid"` runs
+    let angle = format!("initial.angle_deg={:?}", THETA_START.to_degrees());
+    let dir = scratch();
+    let events = dir.join("cli_wall_events_0.8.csv");
+    cli_wall_run(&[angle, "time.end=0.8".into()], &dir.join("cli_wall_0.8.csv"), &events);
+    run_script(
+        "syssimx_wall_impact.py",
+        &[fmu().display().to_string(), events.display().to_string()],
+    );
 }

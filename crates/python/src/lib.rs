@@ -9,8 +9,10 @@
 //!   written as a TOML literal), so they are merged and checked by [`pendulum_fem::Config::load`]
 //!   exactly as on the command line.
 //! * **Stepping**: `step(dt)`, `step_to(t_end)` and `run(end, dt)` release the GIL; `run` returns
-//!   the columns of `results.csv` ([`pendulum_fem::StepRecord::HEADER`],
-//!   [`pendulum_fem_io::run::csv_values`]) as numpy arrays.
+//!   the columns of `results.csv` ([`pendulum_fem::StepRecord::header`]: with a wall, the contact
+//!   columns too; [`pendulum_fem_io::run::csv_values`]) as numpy arrays.
+//! * **Wall**: `gap`, `contact_force`, `impacts`, `in_contact` and `events` (the rows of the CLI's
+//!   `events.csv`) read the stepper's wall ([`contact_gap`] is the one place that reads the gap).
 //! * **Torque input**: `tau` holds the pivot torque ([`pendulum_fem::Simulation::set_torque`]). A
 //!   model without a `[torque]` profile has no torque term (so that `Simulation()` is the CLI's
 //!   default run bit for bit); setting `tau` before the first step declares one (`torque.profile =
@@ -28,7 +30,7 @@ use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyT
 
 use pendulum_fem::config::TorqueProfile;
 use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot, StepRecord};
-use pendulum_fem_io::run::{csv_values, StepPlan};
+use pendulum_fem_io::run::{csv_values, StepPlan, EVENTS_HEADER};
 
 pyo3::create_exception!(
     pendulum_fem,
@@ -57,16 +59,18 @@ const SIGNAL_CHECK: std::time::Duration = std::time::Duration::from_millis(50);
 /// The boundary of the head's outer circle ([`pendulum_fem::Mesh::nodes_on`]).
 const HEAD_BOUNDARY: &str = "contact_head";
 
-/// The contact reading of the current state \[m\]: until the wall lands in the library, the
-/// smallest signed distance from the nodes of the head's arc to the tutorial's wall face, the plane
-/// `x = −geometry.head_radius` (the hanging head touches it), positive while apart; `+∞` for a mesh
+/// The gap of the current state \[m\], positive while apart. With a wall (`wall.kind = "rigid"`):
+/// the stepper's, the smallest gap of the head's arc to the wall face
+/// ([`pendulum_fem::terms::RigidWall::smallest_gap`]; negative: the largest penetration), as in the
+/// `gap_m` column of `results.csv`. Without one: the smallest signed distance from the nodes of the
+/// head's arc to the plane `x = wall.x` (the hanging head touches it by default); `+∞` for a mesh
 /// without a head arc.
-///
-/// The one place that reads contact: rewire it to the library's wall (its face and gap) when the
-/// contact issue lands.
 pub fn contact_gap(sim: &Simulation, head_nodes: &[usize]) -> f64 {
-    let face_x = -sim.model.config.geometry.head_radius;
     let u = sim.displacement();
+    if let Some(wall) = &sim.model.wall {
+        return wall.smallest_gap(u);
+    }
+    let face_x = sim.model.config.wall.x;
     let nodes = &sim.model.mesh.nodes;
     head_nodes
         .iter()
@@ -310,8 +314,9 @@ impl PySimulation {
 
     /// Runs from the current state to `end` [s] in steps of `dt` (default: `time.dt`; a shorter last
     /// step lands on `end` when it is not on the grid) and returns the rows of `results.csv` as a
-    /// dict of numpy columns named as its header, the current state first. From the start of a
-    /// `Simulation(cfg)` this is the CLI's `results.csv` for `time.end = end`, bit for bit. The GIL
+    /// dict of numpy columns named as its header, the current state first (with a wall, the
+    /// contact columns `gap_m`, `contact_force_N`, `contact_J`, `impacts` follow). From the start of
+    /// a `Simulation(cfg)` this is the CLI's `results.csv` for `time.end = end`, bit for bit. The GIL
     /// is released; Ctrl-C stops at a step boundary (raising `KeyboardInterrupt`).
     #[pyo3(signature = (end, dt=None))]
     fn run<'py>(&mut self, py: Python<'py>, end: f64, dt: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
@@ -357,7 +362,8 @@ impl PySimulation {
             Ok(rows)
         })?;
         let columns = PyDict::new(py);
-        for (j, name) in StepRecord::HEADER.split(',').enumerate() {
+        let header = StepRecord::header(self.sim.model.wall.is_some());
+        for (j, name) in header.split(',').enumerate() {
             let column: Vec<f64> = rows.iter().map(|r| r[j]).collect();
             columns.set_item(name, PyArray1::from_vec(py, column))?;
         }
@@ -421,15 +427,64 @@ impl PySimulation {
         self.sim.set_torque(value).map_err(py_err)
     }
 
-    /// Gap between the head and the wall face [m], positive while apart (see the package README:
-    /// the tutorial's wall face `x = −geometry.head_radius` until the wall joins the model).
+    /// Gap between the head and the wall face [m], positive while apart. With a wall: the
+    /// stepper's smallest gap of the head's arc to the face (negative: the largest penetration),
+    /// the `gap_m` column of `results.csv`; without one: the head's distance to the plane
+    /// `x = wall.x`.
     #[getter]
     fn gap(&self) -> f64 {
         contact_gap(&self.sim, &self.head_nodes)
     }
 
+    /// Normal force of the wall on the head [N] (the `contact_force_N` column; 0 without a wall).
+    #[getter]
+    fn contact_force(&self) -> f64 {
+        self.sim
+            .model
+            .wall
+            .as_ref()
+            .map_or(0.0, |w| w.normal_force(self.sim.displacement()))
+    }
+
+    /// Impacts of the head on the wall so far (counted when the head first penetrates the wall;
+    /// the `impacts` column). The parity of this count is the event indicator for a co-simulation
+    /// master: an impact may start and end between two communication points.
+    #[getter]
+    fn impacts(&self) -> usize {
+        self.sim.impacts()
+    }
+
+    /// Whether the head is in an impact now (from its first penetration until the stepper ends it).
+    #[getter]
+    fn in_contact(&self) -> bool {
+        self.sim.in_contact()
+    }
+
+    /// The contact events so far, the rows of the CLI's `events.csv`: a list of dicts with its
+    /// columns as keys: `time_s`, `event` (`"impact_start"` or `"impact_end"`), `theta_rad`,
+    /// `omega_rad_s`, `impulse_N_s`, `max_penetration_m` and `max_force_N` (0 at a start). Empty
+    /// without a wall.
+    #[getter]
+    fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let keys: Vec<&str> = EVENTS_HEADER.split(',').collect();
+        let list = PyList::empty(py);
+        for e in self.sim.contact_events() {
+            let row = PyDict::new(py);
+            row.set_item(keys[0], e.time)?;
+            row.set_item(keys[1], e.kind.name())?;
+            row.set_item(keys[2], e.theta)?;
+            row.set_item(keys[3], e.omega)?;
+            row.set_item(keys[4], e.impulse)?;
+            row.set_item(keys[5], e.penetration)?;
+            row.set_item(keys[6], e.force)?;
+            list.append(row)?;
+        }
+        Ok(list)
+    }
+
     /// Energies of the current state [J]: `kinetic`, `strain`, `gravity` (relative to the pivot
-    /// height), `total` (their sum) and `torque_work` (work of the torque since the start).
+    /// height), `contact` (the wall's penalty energy, 0 without a wall), `total` (their sum) and
+    /// `torque_work` (work of the torque since the start).
     #[getter]
     fn energies<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let e = self.sim.energies();
@@ -437,6 +492,7 @@ impl PySimulation {
         d.set_item("kinetic", e.kinetic)?;
         d.set_item("strain", e.strain)?;
         d.set_item("gravity", e.gravity)?;
+        d.set_item("contact", e.contact)?;
         d.set_item("total", e.total)?;
         d.set_item("torque_work", e.torque_work)?;
         Ok(d)
@@ -550,10 +606,18 @@ impl PySimulation {
     }
 }
 
-/// The header of `results.csv`: the column names of `Simulation.run`.
+/// The header of `results.csv`: the column names of `Simulation.run`, with the contact columns of
+/// a model with a wall when `wall` is true.
 #[pyfunction]
-fn csv_columns() -> Vec<&'static str> {
-    StepRecord::HEADER.split(',').collect()
+#[pyo3(signature = (wall=false))]
+fn csv_columns(wall: bool) -> Vec<String> {
+    StepRecord::header(wall).split(',').map(str::to_string).collect()
+}
+
+/// The header of `events.csv`: the keys of the rows of `Simulation.events`.
+#[pyfunction]
+fn event_columns() -> Vec<&'static str> {
+    EVENTS_HEADER.split(',').collect()
 }
 
 /// The Rust extension module of the `pendulum_fem` package.
@@ -561,6 +625,7 @@ fn csv_columns() -> Vec<&'static str> {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySimulation>()?;
     m.add_function(wrap_pyfunction!(csv_columns, m)?)?;
+    m.add_function(wrap_pyfunction!(event_columns, m)?)?;
     m.add("ConvergenceError", m.py().get_type::<ConvergenceError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -170,11 +170,13 @@ def test_fields_are_numpy_arrays_shaped_by_the_mesh():
     assert sim.von_mises.shape == (n,) and sim.von_mises.max() > 0
     assert sim.cauchy_stress.shape == (n, 3)
     e = sim.energies
-    assert set(e) == {"kinetic", "strain", "gravity", "total", "torque_work"}
+    assert set(e) == {"kinetic", "strain", "gravity", "contact", "total", "torque_work"}
+    assert e["contact"] == 0.0
     assert e["total"] == pytest.approx(e["kinetic"] + e["strain"] + e["gravity"], rel=1e-15)
-    # the body at 20° from the hanging position: head arc well clear of the plane x = -r_head
+    # the body at 20° from the hanging position: head arc well clear of the plane x = wall.x
     x_head = sim.nodes[:, 0] + sim.displacement[:, 0]
-    assert 0.0 < sim.gap <= x_head.max() + 0.06
+    assert 0.0 < sim.gap <= x_head.max() - sim.config["wall"]["x"]
+    assert sim.contact_force == 0.0 and sim.impacts == 0 and not sim.in_contact and sim.events == []
     assert 0.5 < sim.mass < 2.0 and sim.center_of_mass[1] < -0.1
     assert "Simulation" in repr(sim)
 
@@ -216,3 +218,57 @@ sim.step(0.01)  # the simulation goes on
 print(sim.steps)
 """
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_run_with_the_wall_equals_the_cli_results_and_events_csv_bit_for_bit(cli_wall_results, cli_wall_events):
+    header, rows = cli_wall_results
+    sim = Simulation(**{"wall.kind": "rigid"})
+    result = sim.run(1.0, 0.01)
+    assert list(result) == header == pendulum_fem.csv_columns(wall=True)
+    assert header[-4:] == ["gap_m", "contact_force_N", "contact_J", "impacts"]
+    expected = np.array(rows)
+    assert len(result["time_s"]) == len(rows) == 101
+    for j, name in enumerate(header):
+        got = result[name]
+        assert got.dtype == np.float64 and got.shape == (101,)
+        differ = np.flatnonzero(bits(got) != bits(expected[:, j]))
+        assert differ.size == 0, f"{name}: first difference at row {differ[0]}: {got[differ[0]]!r} != {expected[differ[0], j]!r}"
+    # the events, row for row and bit for bit
+    event_header, event_rows = cli_wall_events
+    assert event_header == pendulum_fem.event_columns()
+    assert [list(e) for e in sim.events] == [event_header] * len(sim.events)
+    assert len(sim.events) == len(event_rows) == 4  # two impacts: start and end of each
+    for event, row in zip(sim.events, event_rows):
+        for key, value in zip(event_header, row):
+            if key == "event":
+                assert event[key] == value
+            else:
+                assert bits([event[key]]) == bits([value]), f"{key}: {event[key]!r} != {value!r}"
+    # the properties read the same state as the last row
+    assert sim.gap == result["gap_m"][-1] and sim.contact_force == result["contact_force_N"][-1]
+    assert sim.impacts == result["impacts"][-1] == 2
+    assert sim.energies["contact"] == result["contact_J"][-1]
+
+
+def test_the_wall_properties_follow_an_impact_and_round_trip_through_snapshots():
+    sim = Simulation(**{"wall.kind": "rigid"})
+    while sim.impacts == 0:
+        before = sim.snapshot()
+        sim.step(0.01)
+    start = sim.events[0]
+    assert start["event"] == "impact_start" and sim.time - 0.01 < start["time_s"] < sim.time
+    # the impact (about 2 ms) ends in the next step: the head is off the wall again
+    sim.step(0.01)
+    assert [e["event"] for e in sim.events] == ["impact_start", "impact_end"] and sim.impacts == 1
+    assert sim.events[1]["impulse_N_s"] > 0.0 and sim.events[1]["max_penetration_m"] > 0.0
+    assert sim.gap > 0.0 and sim.contact_force == 0.0 and not sim.in_contact
+    # stepped finely from the step's start: in contact, pressed, penetrating
+    sim.restore(before)
+    assert sim.impacts == 0 and sim.events == []
+    while not sim.in_contact:
+        sim.step(1e-4)
+    assert sim.impacts == 1 and sim.gap < 0.0 and sim.contact_force > 0.0
+    assert sim.energies["contact"] > 0.0
+    copy = pickle.loads(pickle.dumps(sim))
+    assert copy.events == sim.events and copy.impacts == 1 and copy.in_contact
+    assert copy.gap == sim.gap and copy.contact_force == sim.contact_force

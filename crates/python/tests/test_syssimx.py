@@ -8,7 +8,7 @@ from syssimx import Connection, CoSimComponent, PortSpec, PortType, System
 from syssimx.system.algorithms import HybridAlgorithm
 
 from pendulum_fem import Simulation
-from pendulum_fem.syssimx import PendulumFem, internal_steps
+from pendulum_fem.syssimx import PendulumFem, impact_parity, internal_steps
 
 THETA_REF = 0.3  # rad
 KP = 20.0  # N m / rad
@@ -167,3 +167,29 @@ def test_the_hybrid_algorithm_locates_a_crossing_by_rollback():
     # syssimx stops when |indicator| < tol_value = 1e-6 rad, i.e. within 1e-6 / ω ≈ 7e-7 s
     assert abs(events[0].t - expected) < 1e-6, f"located at {events[0].t!r} s, the trajectory crosses at {expected!r} s"
     assert plant.sim.theta < 0 and abs(plant.sim.time - 0.3) < 1e-6
+
+
+def test_the_hybrid_algorithm_locates_the_wall_impacts_through_contact_count():
+    # the stepper's own events, stepped as the CLI steps (0.01 s): impact starts at ~0.2395 s and
+    # ~0.7208 s; the impact (~2 ms) starts and ends inside one macro step, so `gap` is positive at
+    # every communication point around it and only the count shows it
+    reference = Simulation(**{"wall.kind": "rigid"})
+    reference.run(0.8, 0.01)
+    starts = [e["time_s"] for e in reference.events if e["event"] == "impact_start"]
+    assert len(starts) == 2
+    plant = PendulumFem("pendulum", **{"wall.kind": "rigid"})
+    assert plant.output_specs["contact_count"].type == PortType.INT
+    plant.add_event_indicator("wall_hit", impact_parity)
+    system = System("wall")
+    system.add_component(plant)
+    system.set_algorithm(HybridAlgorithm())
+    system.initialize(0.0)
+    # the event port exists: no output of the component is named like the event
+    assert plant.output_specs["wall_hit"].type == PortType.EVENT
+    system.run(0.0, 0.8, 0.01)
+    located = [e.t for e in system.history.get_all_event_histories()[("pendulum", "wall_hit")]]
+    errors = [abs(a - b) for a, b in zip(located, starts)]
+    print(f"impact starts: stepper {starts}, located {located}, differences {errors} s")
+    assert len(located) == 2 and max(errors) < 1e-4, (located, starts)
+    assert plant.outputs["contact_count"].get() == 2 == plant.sim.impacts
+    assert abs(plant.sim.time - 0.8) < 1e-6

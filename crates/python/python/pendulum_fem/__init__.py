@@ -11,13 +11,17 @@ runs in Rust; this package drives its stepper:
 >>> sim.tau = 0.5           # hold a pivot torque of 0.5 N m
 >>> rows = sim.run(1.0)     # the columns of results.csv up to t = 1 s, as numpy arrays
 
+With a rigid wall (``Simulation(**{"wall.kind": "rigid"})``) the stepper locates and resolves every
+impact of the head; ``gap``, ``contact_force``, ``impacts``, ``in_contact`` and ``events`` (the rows
+of the CLI's ``events.csv``) read it, and ``run`` adds the contact columns.
+
 ``pendulum_fem.syssimx`` (imported on its own, it needs ``syssimx``) wraps the simulation as a
 syssimx co-simulation component.
 """
 
-from ._core import ConvergenceError, Simulation, __version__, csv_columns
+from ._core import ConvergenceError, Simulation, __version__, csv_columns, event_columns
 
-__all__ = ["Simulation", "ConvergenceError", "csv_columns", "__version__"]
+__all__ = ["Simulation", "ConvergenceError", "csv_columns", "event_columns", "__version__"]
 
 
 def _rebuild_simulation(config_toml: str, snapshot: bytes) -> Simulation:

@@ -13,8 +13,13 @@ class ConvergenceError(RuntimeError):
     """A time step (or the initial equilibrium) failed after every cut-back; the simulation is
     left exactly as before the call."""
 
-def csv_columns() -> List[str]:
-    """The header of ``results.csv``: the column names of :meth:`Simulation.run`."""
+def csv_columns(wall: bool = False) -> List[str]:
+    """The header of ``results.csv``: the column names of :meth:`Simulation.run`; with
+    ``wall=True`` those of a model with a wall (``gap_m``, ``contact_force_N``, ``contact_J``,
+    ``impacts`` at the end)."""
+
+def event_columns() -> List[str]:
+    """The header of ``events.csv``: the keys of the rows of :attr:`Simulation.events`."""
 
 class Simulation:
     """A deformable pendulum simulation (finite elements, hyperelastic, on a hinge under gravity).
@@ -41,9 +46,9 @@ class Simulation:
     def run(self, end: float, dt: Optional[float] = None) -> Dict[str, npt.NDArray[np.float64]]:
         """Runs from the current state to ``end`` [s] in steps of ``dt`` (default ``time.dt``; a
         shorter last step lands on ``end``) and returns the rows of ``results.csv`` as numpy
-        columns named as its header (:func:`csv_columns`), the current state first. From the start
-        this equals the CLI's ``results.csv`` for ``time.end = end`` bit for bit. The GIL is
-        released; Ctrl-C stops at a step boundary."""
+        columns named as its header (:func:`csv_columns`; with a wall, the contact columns too),
+        the current state first. From the start this equals the CLI's ``results.csv`` for
+        ``time.end = end`` bit for bit. The GIL is released; Ctrl-C stops at a step boundary."""
     def snapshot(self) -> bytes:
         """The complete state as bytes; :meth:`restore` continues bit for bit."""
     def restore(self, data: bytes) -> None:
@@ -74,11 +79,31 @@ class Simulation:
     def tau(self, value: float) -> None: ...
     @property
     def gap(self) -> float:
-        """Gap between the head and the wall face [m], positive while apart; for now the
-        tutorial's wall face ``x = −geometry.head_radius`` (``inf`` for a mesh without a head)."""
+        """Gap between the head and the wall face [m], positive while apart. With a wall
+        (``wall.kind = "rigid"``) the stepper's smallest gap of the head's arc to the face
+        (negative: the largest penetration; the ``gap_m`` column); without one the head's distance
+        to the plane ``x = wall.x`` (``inf`` for a mesh without a head)."""
+    @property
+    def contact_force(self) -> float:
+        """Normal force of the wall on the head [N] (``contact_force_N``; 0 without a wall)."""
+    @property
+    def impacts(self) -> int:
+        """Impacts of the head on the wall so far, counted at the first penetration (``impacts``).
+        Its parity is the event indicator for a co-simulation master: an impact may start and end
+        between two communication points."""
+    @property
+    def in_contact(self) -> bool:
+        """Whether the head is in an impact now."""
+    @property
+    def events(self) -> List[Dict[str, Union[float, str]]]:
+        """The contact events so far, the rows of the CLI's ``events.csv`` as dicts keyed by its
+        header (:func:`event_columns`): ``time_s``, ``event`` (``"impact_start"`` or
+        ``"impact_end"``), ``theta_rad``, ``omega_rad_s``, ``impulse_N_s``, ``max_penetration_m``, ``max_force_N``.
+        Empty without a wall."""
     @property
     def energies(self) -> Dict[str, float]:
-        """``kinetic``, ``strain``, ``gravity``, ``total`` and ``torque_work`` [J]."""
+        """``kinetic``, ``strain``, ``gravity``, ``contact`` (the wall's, 0 without one), ``total``
+        (their sum) and ``torque_work`` [J]."""
     @property
     def hinge_reaction(self) -> Tuple[float, float]:
         """Force of the hinge on the body ``(fx, fy)`` [N]."""

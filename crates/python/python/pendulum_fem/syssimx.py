@@ -5,13 +5,24 @@ shaped like syssimx's own ``FEMPendulum`` example:
 
 * input ``tau`` [N.m], the pivot torque, held over each macro step (zero-order hold);
 * outputs ``theta`` [rad], ``omega`` [rad/s], ``alpha`` [rad/s^2] (``alpha`` follows ``tau`` at
-  once: the only direct feedthrough) and ``gap`` [m] (head to wall face, see
-  :attr:`pendulum_fem.Simulation.gap`);
+  once: the only direct feedthrough), ``gap`` [m] (head to wall face, see
+  :attr:`pendulum_fem.Simulation.gap`) and ``contact_count`` (an integer: the impacts on the wall
+  so far, :attr:`pendulum_fem.Simulation.impacts`);
 * ``snapshot_state``/``restore_state`` through the stepper's complete snapshot, so a rollback by
   syssimx's hybrid algorithm continues bit for bit as if the component had never advanced;
 * a macro step longer than ``max_internal_step`` (default: the configuration's ``time.dt``) is
   split into equal internal steps; a multiple of it takes steps of exactly that length, as the
   CLI does, and a zero step only refreshes the outputs.
+
+**Impacts.** With a wall (``**{"wall.kind": "rigid"}``) the stepper resolves each impact inside
+the macro step, so the head can touch the wall and leave it between two communication points, and
+``gap`` is positive at both. The parity of ``contact_count`` changes in every step with an impact:
+register it as the event indicator (see :func:`impact_parity`) under a name that is not an output
+of this component (an output named like the event, e.g. ``wall_hit``, would hide its event port),
+and syssimx's hybrid algorithm locates the impact by rolling back::
+
+    plant = PendulumFem("pendulum", **{"wall.kind": "rigid"})
+    plant.add_event_indicator("wall_hit", impact_parity)
 
 Parameters (``set_parameters`` before ``initialize``): ``config`` (a TOML path or dict, as for
 :class:`pendulum_fem.Simulation`), ``overrides`` (a dict of the CLI's keys) and
@@ -46,10 +57,13 @@ OUTPUT_SPECS = {
     "omega": PortSpec("omega", PortType.REAL, direction="out", unit="rad/s", description="angular velocity"),
     "alpha": PortSpec("alpha", PortType.REAL, direction="out", unit="rad/s^2", description="angular acceleration"),
     "gap": PortSpec("gap", PortType.REAL, direction="out", unit="m", description="head to wall face"),
+    "contact_count": PortSpec(
+        "contact_count", PortType.INT, direction="out", description="impacts on the wall so far"
+    ),
 }
 
 #: Outputs that change with an input within the same instant (the rest follow only by stepping).
-DIRECT_FEEDTHROUGH = {"theta": set(), "omega": set(), "alpha": {"tau"}, "gap": set()}
+DIRECT_FEEDTHROUGH = {"theta": set(), "omega": set(), "alpha": {"tau"}, "gap": set(), "contact_count": set()}
 
 
 def _magnitude(value: Any, unit: str) -> float:
@@ -57,6 +71,13 @@ def _magnitude(value: Any, unit: str) -> float:
     if hasattr(value, "to"):
         return float(value.to(unit).magnitude)
     return float(value)
+
+
+def impact_parity(component: "PendulumFem") -> float:
+    """Event indicator of the impacts: +0.5 after an even number of impacts, -0.5 after an odd one
+    (from the ``contact_count`` output), so that every impact is a sign change."""
+    count = component.outputs["contact_count"].get()
+    return 0.5 - (int(count or 0) % 2)
 
 
 def internal_steps(dt: float, max_step: float) -> Tuple[int, float]:
@@ -152,6 +173,7 @@ class PendulumFem(CoSimComponent):
             self.outputs["omega"].set(sim.omega, t=t)
             self.outputs["alpha"].set(sim.alpha, t=t)
             self.outputs["gap"].set(sim.gap, t=t)
+            self.outputs["contact_count"].set(sim.impacts, t=t)
         self._apply_event_ports(t, event_names)
 
     # ------------------------------------------------------------------ stepping
