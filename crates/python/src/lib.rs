@@ -556,6 +556,8 @@ fn csv_columns() -> Vec<&'static str> {
     StepRecord::HEADER.split(',').collect()
 }
 
+mod study;
+
 /// The Rust extension module of the `pendulum_fem` package.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -563,5 +565,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(csv_columns, m)?)?;
     m.add("ConvergenceError", m.py().get_type::<ConvergenceError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    study::register(m)?;
     Ok(())
 }
