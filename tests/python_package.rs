@@ -1,8 +1,9 @@
 //! The Python package (`crates/python`): builds its wheel with maturin into the test environment
 //! (`scripts/test-env`: a virtual environment with maturin, pytest, numpy and syssimx), installs it
 //! and runs its pytest suite (`crates/python/tests`). The suite compares `Simulation().run(1, 0.01)`
-//! with the `results.csv` that the CLI built here writes; any failure fails this test with pytest's
-//! output (nothing is skipped).
+//! with the `results.csv` that the CLI built here writes, and `pendulum_fem.sweep` with the
+//! `summary.csv` of this CLI's `sweep` (its path in `PENDULUM_FEM_CLI`); any failure fails this
+//! test with pytest's output (nothing is skipped).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -76,6 +77,7 @@ fn python_package_builds_installs_and_passes_its_tests() {
             .args(["-m", "pytest", "-q", "-p", "no:cacheprovider"])
             .arg(root.join("crates/python/tests"))
             .env("PENDULUM_FEM_RESULTS_CSV", &results)
+            .env("PENDULUM_FEM_CLI", env!("CARGO_BIN_EXE_pendulum-fem"))
             .current_dir(&scratch),
         "pytest crates/python/tests",
     );
