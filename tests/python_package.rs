@@ -2,8 +2,9 @@
 //! (`scripts/test-env`: a virtual environment with maturin, pytest, numpy and syssimx), installs it
 //! and runs its pytest suite (`crates/python/tests`). The suite compares `Simulation().run(1, 0.01)`
 //! with the `results.csv` that the CLI built here writes, and the same with the rigid wall
-//! (`results.csv` and `events.csv`); any failure fails this test with pytest's output (nothing is
-//! skipped).
+//! (`results.csv` and `events.csv`), and `pendulum_fem.sweep` with the `summary.csv` of this
+//! CLI's `sweep` (its path in `PENDULUM_FEM_CLI`); any failure fails this test with pytest's
+//! output (nothing is skipped).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -84,6 +85,7 @@ fn python_package_builds_installs_and_passes_its_tests() {
             .env("PENDULUM_FEM_RESULTS_CSV", &results)
             .env("PENDULUM_FEM_WALL_RESULTS_CSV", wall.join("results.csv"))
             .env("PENDULUM_FEM_WALL_EVENTS_CSV", wall.join("events.csv"))
+            .env("PENDULUM_FEM_CLI", env!("CARGO_BIN_EXE_pendulum-fem"))
             .current_dir(&scratch),
         "pytest crates/python/tests",
     );

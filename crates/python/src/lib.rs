@@ -620,6 +620,8 @@ fn event_columns() -> Vec<&'static str> {
     EVENTS_HEADER.split(',').collect()
 }
 
+mod study;
+
 /// The Rust extension module of the `pendulum_fem` package.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -628,5 +630,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(event_columns, m)?)?;
     m.add("ConvergenceError", m.py().get_type::<ConvergenceError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    study::register(m)?;
     Ok(())
 }

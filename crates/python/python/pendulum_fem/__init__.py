@@ -20,8 +20,9 @@ syssimx co-simulation component.
 """
 
 from ._core import ConvergenceError, Simulation, __version__, csv_columns, event_columns
+from .sweep import sweep
 
-__all__ = ["Simulation", "ConvergenceError", "csv_columns", "event_columns", "__version__"]
+__all__ = ["Simulation", "ConvergenceError", "csv_columns", "event_columns", "__version__", "sweep"]
 
 
 def _rebuild_simulation(config_toml: str, snapshot: bytes) -> Simulation:

@@ -146,3 +146,29 @@ class Simulation:
     @property
     def config_toml(self) -> str:
         """The configuration in effect as TOML (for ``pendulum-fem run --config``)."""
+
+# Parameter studies (src/study.rs; used by pendulum_fem.sweep)
+
+def expand(
+    vary: List[str] = ..., zip: bool = False, cases: Optional[List[Dict[str, Any]]] = None
+) -> Dict[str, Any]:
+    """The cases of a study as ``pendulum-fem sweep`` makes them (``cases`` first, then each
+    ``vary``; a grid or, with ``zip``, paired): ``keys``, ``shown`` (per case, ``(key, value)`` as in
+    the summary), ``overrides`` (per case, ``key=value``) and ``cases_csv``."""
+
+def overrides_of(config: Dict[str, Any]) -> List[str]:
+    """A dict of configuration keys as the CLI's ``--set key=value`` overrides."""
+
+def run_case(
+    varied: List[Tuple[str, str]],
+    overrides: List[str],
+    config: Union[None, str, os.PathLike[str]] = None,
+    case_dir: Union[None, str, os.PathLike[str]] = None,
+    threads: int = 1,
+    all_outputs: bool = False,
+) -> Dict[str, Any]:
+    """Runs one case as ``pendulum-fem sweep`` does (without the GIL) and returns its summary row
+    (column → value; ``None`` for an empty cell); a failed case is ``status == "failed"``."""
+
+def summary_csv(keys: List[str], rows: List[Dict[str, Any]]) -> str:
+    """The text of the CLI's ``summary.csv`` for the varied ``keys`` and the rows of :func:`run_case`."""
