@@ -403,7 +403,8 @@ pub enum TorqueProfile {
     Table,
 }
 
-/// Actuator torque at the pivot.
+/// Actuator torque at the pivot: the one description of the torque profile, which the torque
+/// term ([`crate::terms::Torque`]) keeps and evaluates ([`crate::terms::Torque::value`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Torque {
