@@ -87,6 +87,7 @@ use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
 use crate::config;
 use crate::fe::for_each_edge_point;
+use crate::post::best_fit_angle;
 use crate::{Error, Mesh};
 use std::path::Path;
 
@@ -264,10 +265,7 @@ impl HubAngle {
     /// `θ_hub(u)` \[rad\], the branch within π of `reference`.
     pub fn angle_near(&self, u: &[f64], reference: f64) -> f64 {
         let (c, s) = self.cos_sin(u);
-        let (sr, cr) = reference.sin_cos();
-        // rotate (c, s) by −reference
-        let (c1, s1) = (c * cr + s * sr, s * cr - c * sr);
-        reference + s1.atan2(c1)
+        best_fit_angle(c, s, Some(reference))
     }
 
     /// `∂θ_hub/∂u` on the hinge-edge degrees of freedom, in the order `[x, y]` per node of
@@ -510,7 +508,7 @@ impl Term for Torque {
                 let (c0, s0) = self.hub.cos_sin(u0);
                 let (c1, s1) = self.hub.cos_sin(u1);
                 // the turn from z₀ to z₁, exact to rounding (no large absolute angles involved)
-                let dth = (c0 * s1 - s0 * c1).atan2(c0 * c1 + s0 * s1);
+                let dth = best_fit_angle(c0 * c1 + s0 * s1, c0 * s1 - s0 * c1, None);
                 let (cm, sm) = (0.5 * (c0 + c1), 0.5 * (s0 + s1));
                 let rm2 = cm * cm + sm * sm;
                 let (mut a, mut b) = (-sm / rm2, cm / rm2);
