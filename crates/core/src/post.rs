@@ -25,7 +25,6 @@ use crate::fe::{for_each_point, FeCache};
 use crate::material::{von_mises, Material};
 use crate::quadrature::TriangleRule;
 use crate::terms::elastic::deformation_gradient;
-use crate::terms::inertia::MassMatrix;
 use crate::{Error, Mesh};
 
 /// The linear functionals of the proxy angle.
@@ -126,16 +125,6 @@ impl Unwrap {
         self.last = Some(value);
         value
     }
-}
-
-/// `(∫ x × w dA, ∫ x·x dA)` up to the common factor ρ t, for interleaved nodal positions `x` and a
-/// field `w`, through the mass matrix.
-pub fn moment_of(mass: &MassMatrix, x: &[f64], w: &[f64], scratch: &mut Vec<f64>) -> f64 {
-    scratch.resize(x.len(), 0.0);
-    mass.apply(w, scratch);
-    (0..x.len() / 2)
-        .map(|a| x[2 * a] * scratch[2 * a + 1] - x[2 * a + 1] * scratch[2 * a])
-        .sum()
 }
 
 /// Nodal stresses of a state.
