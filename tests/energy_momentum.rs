@@ -9,7 +9,7 @@ use pendulum_fem::fe::FeCache;
 use pendulum_fem::material::Material;
 use pendulum_fem::quadrature::TriangleRule;
 use pendulum_fem::simulation::{Simulation, StepRecord};
-use pendulum_fem::terms::{Elastic, Gravity, StepContext, StepStart, Term, Torque, TorqueMode, TorqueProfile};
+use pendulum_fem::terms::{Elastic, Gravity, StepContext, StepStart, Term, Torque, TorqueMode};
 use pendulum_fem::{mesh, Config, Mesh};
 
 /// Moment of inertia of the tutorial pendulum about the pivot (shared/reference) \[kg m²\].
@@ -229,13 +229,16 @@ fn the_torque_and_gravity_discrete_work_is_their_exact_work() {
     let mesh = common::hanging_rectangle(0.015, 0.3, 2, 8);
     let n = 2 * mesh.num_nodes();
     let gravity = Gravity::new(&mesh, 7800.0, 0.01, 9.81);
-    let profile = TorqueProfile::Ramp {
-        amplitude: 2.0,
-        start: 0.0,
-        duration: 1.0,
-    };
     for mode in [TorqueMode::Follower, TorqueMode::Fixed] {
-        let torque = Torque::new(&mesh, "rotation", profile.clone(), mode).unwrap();
+        let profile = config::Torque {
+            profile: Kind::Ramp,
+            amplitude: 2.0,
+            start: 0.0,
+            duration: 1.0,
+            follower: mode == TorqueMode::Follower,
+            ..Default::default()
+        };
+        let torque = Torque::from_config(&mesh, "rotation", &profile).unwrap();
         for (phi0, dphi) in [(0.0, 0.01), (3.0, 0.3), (-2.0, 1.2)] {
             let u0 = turned(&mesh, phi0, &wiggle(n, 1e-4, 4.0));
             let u1 = turned(&mesh, phi0 + dphi, &wiggle(n, 1e-4, 5.0));

@@ -14,7 +14,7 @@ use pendulum_fem::config::{commented_default, Config};
 use pendulum_fem::io::gmsh::write_msh_to;
 use pendulum_fem::io::gmsh_read::parse_msh;
 use pendulum_fem::simulation::{Simulation, Snapshot};
-use pendulum_fem::terms::TorqueProfile;
+use pendulum_fem::terms::TorqueTable;
 use proptest::prelude::*;
 
 /// A small valid mesh file (the plate of 2 × 6 squares), ASCII and binary.
@@ -218,7 +218,7 @@ proptest! {
         for (t, m) in &rows {
             text.push_str(&format!("\n{t},{m}"));
         }
-        match TorqueProfile::parse_table(&text, "fuzz.csv") {
+        match TorqueTable::parse(&text, "fuzz.csv") {
             Ok(p) => {
                 // a table that reads evaluates to finite torques everywhere
                 for t in [-1.0, 0.0, 0.5, 1e3] {

@@ -8,7 +8,7 @@ mod common;
 use pendulum_fem::assembly::Pattern;
 use pendulum_fem::config::{self, TorqueProfile as Kind};
 use pendulum_fem::simulation::{Simulation, StepRecord, HINGE_BOUNDARY};
-use pendulum_fem::terms::{StepContext, Term, Torque, TorqueMode, TorqueProfile};
+use pendulum_fem::terms::{StepContext, Term, Torque, TorqueMode};
 use pendulum_fem::{mesh, Config, Error, Mesh};
 
 /// Exact rigid values of the tutorial pendulum (shared/reference/README.md).
@@ -36,7 +36,13 @@ fn rotated(mesh: &Mesh, phi: f64, deform: &[f64]) -> Vec<f64> {
 }
 
 fn torque_on(mesh: &Mesh, mode: TorqueMode, amplitude: f64) -> Torque {
-    Torque::new(mesh, HINGE_BOUNDARY, TorqueProfile::Constant { amplitude }, mode).unwrap()
+    let profile = config::Torque {
+        profile: Kind::Constant,
+        amplitude,
+        follower: mode == TorqueMode::Follower,
+        ..Default::default()
+    };
+    Torque::from_config(mesh, HINGE_BOUNDARY, &profile).unwrap()
 }
 
 /// The hinge edge's degrees of freedom, a step of 10 nm, 1e-6 relative; the Hessian's scale is
@@ -123,7 +129,7 @@ fn moment_of_gradient(mesh: &Mesh, term: &Torque, u: &[f64]) -> f64 {
             -(x[0] * g[2 * n + 1] - x[1] * g[2 * n])
         })
         .sum();
-    assert!((m - term.moment_about_pivot(u, term.profile.value(0.0))).abs() < 1e-12 * m.abs().max(1.0));
+    assert!((m - term.moment_about_pivot(u, term.value(0.0))).abs() < 1e-12 * m.abs().max(1.0));
     m
 }
 
@@ -216,10 +222,11 @@ fn profiles_evaluate_as_documented() {
         phase: 0.3,
         ..Default::default()
     };
+    let mesh = common::hanging_rectangle(0.015, 0.1, 2, 2);
     let at = |cfg: &config::Torque, kind: Kind, t: f64| {
         let mut c = cfg.clone();
         c.profile = kind;
-        TorqueProfile::from_config(&c).unwrap().value(t)
+        Torque::from_config(&mesh, HINGE_BOUNDARY, &c).unwrap().value(t)
     };
     assert_eq!(at(&cfg, Kind::None, 1.0), 0.0);
     assert_eq!(at(&cfg, Kind::Constant, 0.0), 2.0);
@@ -234,7 +241,10 @@ fn profiles_evaluate_as_documented() {
     assert!((at(&cfg, Kind::Sine, 0.7) - expected).abs() < 1e-15);
     cfg.duration = 0.0;
     cfg.profile = Kind::Ramp;
-    assert!(matches!(TorqueProfile::from_config(&cfg), Err(Error::Config(_))));
+    assert!(matches!(
+        Torque::from_config(&mesh, HINGE_BOUNDARY, &cfg),
+        Err(Error::Config(_))
+    ));
 }
 
 fn scratch(name: &str) -> std::path::PathBuf {
@@ -254,7 +264,8 @@ fn table_profile_interpolates_linearly_and_holds_its_end_values() {
         file: Some(file),
         ..Default::default()
     };
-    let p = TorqueProfile::from_config(&cfg).unwrap();
+    let mesh = common::hanging_rectangle(0.015, 0.1, 2, 2);
+    let p = Torque::from_config(&mesh, HINGE_BOUNDARY, &cfg).unwrap();
     for (t, m) in [
         (0.0, 0.0),
         (0.1, 0.0),
@@ -271,6 +282,7 @@ fn table_profile_interpolates_linearly_and_holds_its_end_values() {
 #[test]
 fn every_table_defect_is_an_error_naming_the_file_and_line() {
     let dir = scratch("table-bad");
+    let mesh = common::hanging_rectangle(0.015, 0.1, 2, 2);
     let load = |name: &str, text: Option<&str>| -> String {
         let file = dir.join(name);
         if let Some(text) = text {
@@ -281,7 +293,7 @@ fn every_table_defect_is_an_error_naming_the_file_and_line() {
             file: Some(file),
             ..Default::default()
         };
-        let err = TorqueProfile::from_config(&cfg).expect_err(name);
+        let err = Torque::from_config(&mesh, HINGE_BOUNDARY, &cfg).expect_err(name);
         assert!(matches!(err, Error::Input(_) | Error::Config(_)), "{err:?}");
         let msg = err.to_string();
         assert!(msg.contains(name), "{name}: {msg}");
@@ -361,7 +373,7 @@ fn every_profile_drives_a_run_that_converges_and_balances_energy() {
             phase: 0.0,
             ..Default::default()
         };
-        let profile = TorqueProfile::from_config(&cfg.torque).unwrap();
+        let profile = Torque::from_config(&mesh, HINGE_BOUNDARY, &cfg.torque).unwrap();
         let mut sim = Simulation::from_config(&cfg, mesh.clone()).unwrap();
         let mut records = vec![sim.record(0)];
         for _ in 0..cfg.time.steps() {
@@ -515,7 +527,7 @@ fn a_fixed_direction_load_delivers_m_cos_theta() {
     // the moment actually delivered in the final state
     let term = Torque::from_config(&sim.model.mesh, HINGE_BOUNDARY, &cfg.torque).unwrap();
     let last = records.last().unwrap();
-    let moment = term.moment_about_pivot(&sim.state.u, term.profile.value(last.time));
+    let moment = term.moment_about_pivot(&sim.state.u, term.value(last.time));
     let peak = records.iter().map(|r| r.theta).fold(0.0, f64::max).to_degrees();
     let balance = energy_balance(&records);
     println!(

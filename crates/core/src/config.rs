@@ -70,6 +70,55 @@ impl Default for Geometry {
     }
 }
 
+impl Geometry {
+    /// The `[geometry]` rules: positive sizes, the hole inside the head, the rod narrower than
+    /// the head and with a free length.
+    fn validate(&self) -> Result<(), Error> {
+        let g = self;
+        positive("geometry.rod_half_width", g.rod_half_width, "m")?;
+        positive("geometry.head_radius", g.head_radius, "m")?;
+        non_negative("geometry.hole_radius", g.hole_radius, "m")?;
+        positive("geometry.head_center_distance", g.head_center_distance, "m")?;
+        positive("geometry.thickness", g.thickness, "m")?;
+        if g.hole_radius >= g.head_radius {
+            return Err(range(
+                "geometry.hole_radius",
+                g.hole_radius,
+                &format!(
+                    "0 <= hole_radius < head_radius = {} m (the hole must lie inside the head)",
+                    g.head_radius
+                ),
+            ));
+        }
+        if g.rod_half_width >= g.head_radius {
+            return Err(range(
+                "geometry.rod_half_width",
+                g.rod_half_width,
+                &format!(
+                    "0 < rod_half_width < head_radius = {} m (the rod must be narrower than the head)",
+                    g.head_radius
+                ),
+            ));
+        }
+        // The rod [−r, r] × [0, l] must reach into the head disc and must not end inside the hole:
+        // its end meets the head circle at distance l − sqrt(R² − r²) from the pivot, which must be > 0,
+        // and the rod end (the head centre) lies in the hole, so the rod's sides must meet the head ring
+        // outside the hole: sqrt(R² − r²) > sqrt(max(h² − r², 0)) holds whenever R > h.
+        let reach = (g.head_radius * g.head_radius - g.rod_half_width * g.rod_half_width).sqrt();
+        if g.head_center_distance <= reach {
+            return Err(range(
+                "geometry.head_center_distance",
+                g.head_center_distance,
+                &format!(
+                    "head_center_distance > sqrt(head_radius² − rod_half_width²) = {reach:.6} m \
+                     (the head would swallow the pivot; the rod must have a free length)"
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Mesh sizes. The local sizes default to the tutorial's fractions of the geometry.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -139,8 +188,14 @@ impl Config {
     /// The local mesh sizes, with defaults derived from the geometry as in the tutorial, each
     /// divided by `mesh.refine`.
     pub fn mesh_sizes(&self) -> MeshSizes {
-        let g = &self.geometry;
-        let m = &self.mesh;
+        self.mesh.sizes(&self.geometry)
+    }
+}
+
+impl MeshConfig {
+    /// The local mesh sizes for geometry `g` ([`Config::mesh_sizes`]).
+    fn sizes(&self, g: &Geometry) -> MeshSizes {
+        let m = self;
         let r = m.refine;
         MeshSizes {
             max_size: m.max_size / r,
@@ -151,6 +206,52 @@ impl Config {
             circle_edge: m.circle_edge_size.unwrap_or(g.head_radius / 20.0) / r,
             grading: m.grading,
         }
+    }
+
+    /// The `[mesh]` rules (the smallest size relative to the geometry `g`).
+    fn validate(&self, g: &Geometry) -> Result<(), Error> {
+        let m = self;
+        positive("mesh.max_size", m.max_size, "m")?;
+        if !(m.order == 1 || m.order == 2) {
+            return Err(Error::Config(format!(
+                "mesh.order = {}: allowed values are 1 and 2",
+                m.order
+            )));
+        }
+        for (key, v) in [
+            ("mesh.rod_size", m.rod_size),
+            ("mesh.head_size", m.head_size),
+            ("mesh.hinge_edge_size", m.hinge_edge_size),
+            ("mesh.hinge_corner_size", m.hinge_corner_size),
+            ("mesh.circle_edge_size", m.circle_edge_size),
+        ] {
+            if let Some(v) = v {
+                positive(key, v, "m")?;
+            }
+        }
+        within("mesh.grading", m.grading, 0.05, 1.0, "")?;
+        within("mesh.refine", m.refine, 0.1, 100.0, "(divides every mesh size)")?;
+        let sizes = self.sizes(g);
+        let smallest = [
+            sizes.max_size,
+            sizes.rod,
+            sizes.head,
+            sizes.hinge_edge,
+            sizes.hinge_corner,
+            sizes.circle_edge,
+        ]
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+        let scale = g.head_center_distance + g.head_radius;
+        if smallest < scale * 1e-5 {
+            return Err(Error::Config(format!(
+                "mesh sizes: the smallest local size {smallest:e} m is below 1e-5 × the pendulum length ({:e} m); \
+                 allowed: sizes >= {:e} m",
+                scale,
+                scale * 1e-5
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -213,6 +314,27 @@ impl Material {
         };
         (lambda, mu)
     }
+
+    /// The `[material]` rules.
+    fn validate(&self) -> Result<(), Error> {
+        let mat = self;
+        positive("material.youngs_modulus", mat.youngs_modulus, "Pa")?;
+        if !(mat.poisson_ratio > -1.0 && mat.poisson_ratio < 0.5) {
+            return Err(range(
+                "material.poisson_ratio",
+                mat.poisson_ratio,
+                "-1 < poisson_ratio < 0.5",
+            ));
+        }
+        if mat.model == MaterialModel::NeoHookean && mat.poisson_ratio <= 0.0 {
+            return Err(range(
+                "material.poisson_ratio",
+                mat.poisson_ratio,
+                "0 < poisson_ratio < 0.5 for the neo-hookean model (its energy divides by λ)",
+            ));
+        }
+        positive("material.density", mat.density, "kg/m^3")
+    }
 }
 
 /// Gravity along −y.
@@ -226,6 +348,13 @@ pub struct Gravity {
 impl Default for Gravity {
     fn default() -> Self {
         Self { g: 9.81 }
+    }
+}
+
+impl Gravity {
+    /// The `[gravity]` rules.
+    fn validate(&self) -> Result<(), Error> {
+        non_negative("gravity.g", self.g, "m/s^2")
     }
 }
 
@@ -283,6 +412,20 @@ impl Initial {
             InitialAcceleration::Zero => InitialElastic::Undeformed,
         })
     }
+
+    /// The `[initial]` rules.
+    fn validate(&self) -> Result<(), Error> {
+        within("initial.angle_deg", self.angle_deg, -360.0, 360.0, "deg")?;
+        finite("initial.angular_velocity", self.angular_velocity)?;
+        if self.elastic == Some(InitialElastic::Equilibrium) && self.acceleration == InitialAcceleration::Zero {
+            return Err(Error::Config(
+                "initial.elastic = \"equilibrium\" needs initial.acceleration = \"rigid\" (a tilted body with zero \
+                 acceleration has no equilibrium); allowed with \"zero\": \"undeformed\""
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// Time integration scheme.
@@ -323,7 +466,8 @@ pub struct Time {
     pub end: f64,
     /// Integration scheme.
     pub scheme: Scheme,
-    /// α of the HHT scheme, −1/3 ≤ α ≤ 0 (0 is the trapezoidal rule).
+    /// α of the HHT scheme, −1/3 ≤ α ≤ 0 (0 is the trapezoidal rule). Only `scheme = "hht"` uses
+    /// it: the other schemes silently ignore it (it is range-checked all the same).
     pub hht_alpha: f64,
     /// Numerical dissipation `χ` of the energy-momentum scheme, `0 ≤ χ < 1`: the strain energy
     /// loses `(χ/2) ΔE:ℂ₀:ΔE` per step, the angular momentum is still conserved; the spectral radius
@@ -332,7 +476,7 @@ pub struct Time {
     /// Largest rotation of the body in one internal sub-step of the Newmark schemes
     /// (`"trapezoidal"`, `"hht"`) \[deg\]: a step whose predicted rotation is larger is split into 2,
     /// 4, 8, … equal sub-steps (rows stay at multiples of `dt`). The energy-momentum scheme needs no
-    /// sub-steps and ignores it.
+    /// sub-steps and silently ignores it (it is range-checked all the same).
     pub max_rotation_deg: f64,
 }
 
@@ -353,6 +497,42 @@ impl Time {
     /// Number of steps, `round(end / dt)`.
     pub fn steps(&self) -> usize {
         (self.end / self.dt).round() as usize
+    }
+
+    /// The `[time]` rules.
+    fn validate(&self) -> Result<(), Error> {
+        positive("time.dt", self.dt, "s")?;
+        non_negative("time.end", self.end, "s")?;
+        within("time.hht_alpha", self.hht_alpha, -1.0 / 3.0, 0.0, "")?;
+        if !(self.dissipation >= 0.0 && self.dissipation < 1.0) {
+            return Err(range(
+                "time.dissipation",
+                self.dissipation,
+                "0 <= dissipation < 1 (0: exact energy conservation)",
+            ));
+        }
+        if self.dissipation != 0.0 && self.scheme != Scheme::EnergyMomentum {
+            return Err(Error::Config(format!(
+                "time.dissipation = {}: it belongs to time.scheme = \"energy-momentum\" (the Newmark schemes \
+                 have time.hht_alpha with time.scheme = \"hht\" instead)",
+                self.dissipation
+            )));
+        }
+        within("time.max_rotation_deg", self.max_rotation_deg, 0.1, 90.0, "deg")?;
+        if self.end > 0.0 && self.dt > self.end {
+            return Err(range(
+                "time.dt",
+                self.dt,
+                &format!("0 < dt <= time.end = {} s", self.end),
+            ));
+        }
+        if self.steps() > 10_000_000 {
+            return Err(Error::Config(format!(
+                "time.end / time.dt = {:.0} steps: at most 10000000 steps are allowed",
+                self.end / self.dt
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -385,6 +565,36 @@ impl Default for Solver {
     }
 }
 
+impl Solver {
+    /// The `[solver]` rules.
+    fn validate(&self) -> Result<(), Error> {
+        let s = self;
+        if !(s.tolerance > 0.0 && s.tolerance.is_finite()) {
+            return Err(range("solver.tolerance", s.tolerance, "tolerance > 0 (J)"));
+        }
+        if !(s.energy_tolerance > 0.0 && s.energy_tolerance <= 1e-3) {
+            return Err(range(
+                "solver.energy_tolerance",
+                s.energy_tolerance,
+                "0 < energy_tolerance <= 1e-3 (relative energy error per step)",
+            ));
+        }
+        if !(1..=1000).contains(&s.max_iterations) {
+            return Err(Error::Config(format!(
+                "solver.max_iterations = {}: allowed range 1 to 1000",
+                s.max_iterations
+            )));
+        }
+        if s.max_cutbacks > 30 {
+            return Err(Error::Config(format!(
+                "solver.max_cutbacks = {}: allowed range 0 to 30",
+                s.max_cutbacks
+            )));
+        }
+        Ok(())
+    }
+}
+
 /// Time profile of the actuator torque.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -403,7 +613,8 @@ pub enum TorqueProfile {
     Table,
 }
 
-/// Actuator torque at the pivot.
+/// Actuator torque at the pivot: the one description of the torque profile, which the torque
+/// term ([`crate::terms::Torque`]) keeps and evaluates ([`crate::terms::Torque::value`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Torque {
@@ -437,6 +648,38 @@ impl Default for Torque {
             file: None,
             follower: true,
         }
+    }
+}
+
+impl Torque {
+    /// The `[torque]` rules: the keys each profile needs.
+    fn validate(&self) -> Result<(), Error> {
+        let t = self;
+        finite("torque.amplitude", t.amplitude)?;
+        non_negative("torque.start", t.start, "s")?;
+        non_negative("torque.duration", t.duration, "s")?;
+        non_negative("torque.frequency", t.frequency, "Hz")?;
+        finite("torque.phase", t.phase)?;
+        if t.profile == TorqueProfile::Ramp && t.duration <= 0.0 {
+            return Err(range(
+                "torque.duration",
+                t.duration,
+                "duration > 0 s for profile = \"ramp\"",
+            ));
+        }
+        if t.profile == TorqueProfile::Sine && t.frequency <= 0.0 {
+            return Err(range(
+                "torque.frequency",
+                t.frequency,
+                "frequency > 0 Hz for profile = \"sine\"",
+            ));
+        }
+        if t.profile == TorqueProfile::Table && t.file.is_none() {
+            return Err(Error::Config(
+                "torque.file: required for profile = \"table\" (a CSV time_s,torque_Nm)".into(),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -499,6 +742,41 @@ impl Default for Wall {
     }
 }
 
+impl Wall {
+    /// The `[wall]` rules (the wall's overlap with the pendulum at its release angle is checked
+    /// with the mesh, by the model).
+    fn validate(&self) -> Result<(), Error> {
+        let w = self;
+        finite("wall.x", w.x)?;
+        finite("wall.center_y", w.center_y)?;
+        if w.kind == WallKind::Deformable {
+            positive("wall.width", w.width, "m")?;
+            positive("wall.height", w.height, "m")?;
+            positive("wall.youngs_modulus", w.youngs_modulus, "Pa")?;
+            if !(w.poisson_ratio > 0.0 && w.poisson_ratio < 0.5) {
+                return Err(range("wall.poisson_ratio", w.poisson_ratio, "0 < poisson_ratio < 0.5"));
+            }
+            positive("wall.density", w.density, "kg/m^3")?;
+            positive("wall.thickness", w.thickness, "m")?;
+            positive("wall.mesh_size", w.mesh_size, "m")?;
+            positive("wall.face_size", w.face_size, "m")?;
+            for (key, size) in [("wall.mesh_size", w.mesh_size), ("wall.face_size", w.face_size)] {
+                if size > w.width.max(w.height) || size < 1e-5 * w.height {
+                    return Err(range(
+                        key,
+                        size,
+                        &format!(
+                            "1e-5 x wall.height <= size <= the block's size ({} m)",
+                            w.width.max(w.height)
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
 /// How the contact force is evaluated over a step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -538,6 +816,35 @@ impl Default for Contact {
     }
 }
 
+impl Contact {
+    /// The `[contact]` rules; the energy-consistent method with a wall needs the energy-momentum
+    /// `scheme`.
+    fn validate(&self, w: &Wall, scheme: Scheme) -> Result<(), Error> {
+        let c = self;
+        positive("contact.stiffness", c.stiffness, "N/m^3")?;
+        if !(1..=64).contains(&c.points_per_edge) {
+            return Err(Error::Config(format!(
+                "contact.points_per_edge = {}: allowed range 1 to 64",
+                c.points_per_edge
+            )));
+        }
+        if !(4..=1000).contains(&c.substeps) {
+            return Err(Error::Config(format!(
+                "contact.substeps = {}: allowed range 4 to 1000",
+                c.substeps
+            )));
+        }
+        if w.kind != WallKind::None && c.method == ContactMethod::EnergyConsistent && scheme != Scheme::EnergyMomentum {
+            return Err(Error::Config(format!(
+                "contact.method = \"energy-consistent\" needs time.scheme = \"energy-momentum\" (this run has \"{}\"); \
+                 the Newmark schemes evaluate the contact force at the end of the step: set contact.method = \"penalty\"",
+                scheme.name()
+            )));
+        }
+        Ok(())
+    }
+}
+
 /// What a run writes.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -571,6 +878,40 @@ impl Output {
     /// The ParaView thinning: `paraview_every`, or `every` when that is not set.
     pub fn paraview_stride(&self) -> usize {
         self.paraview_every.unwrap_or(self.every).max(1)
+    }
+
+    /// The `[output]` rules.
+    fn validate(&self) -> Result<(), Error> {
+        let o = self;
+        if o.every == 0 {
+            return Err(Error::Config("output.every = 0: allowed range 1 and up".into()));
+        }
+        if o.paraview_every == Some(0) {
+            return Err(Error::Config(
+                "output.paraview_every = 0: allowed range 1 and up (output.paraview = false writes no frames)".into(),
+            ));
+        }
+        non_negative(
+            "output.energy_watchdog",
+            o.energy_watchdog,
+            "(a fraction of the energy scale; 0: off)",
+        )?;
+        if let Some(mag) = o.magnification {
+            if !(mag >= 0.0 && mag.is_finite()) {
+                return Err(range(
+                    "output.magnification",
+                    mag,
+                    "magnification >= 0 (omit the key for automatic)",
+                ));
+            }
+        }
+        if o.max_frames < 2 {
+            return Err(Error::Config(format!(
+                "output.max_frames = {}: allowed range 2 and up",
+                o.max_frames
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -624,288 +965,20 @@ impl Config {
         Ok(cfg)
     }
 
-    /// Checks every value against its allowed range; the message names the key.
+    /// Checks every value against its allowed range, section by section (each section's rules
+    /// are its `validate` method, next to its struct); the message names the key.
     pub fn validate(&self) -> Result<(), Error> {
-        let g = &self.geometry;
-        positive("geometry.rod_half_width", g.rod_half_width, "m")?;
-        positive("geometry.head_radius", g.head_radius, "m")?;
-        non_negative("geometry.hole_radius", g.hole_radius, "m")?;
-        positive("geometry.head_center_distance", g.head_center_distance, "m")?;
-        positive("geometry.thickness", g.thickness, "m")?;
-        if g.hole_radius >= g.head_radius {
-            return Err(range(
-                "geometry.hole_radius",
-                g.hole_radius,
-                &format!(
-                    "0 <= hole_radius < head_radius = {} m (the hole must lie inside the head)",
-                    g.head_radius
-                ),
-            ));
-        }
-        if g.rod_half_width >= g.head_radius {
-            return Err(range(
-                "geometry.rod_half_width",
-                g.rod_half_width,
-                &format!(
-                    "0 < rod_half_width < head_radius = {} m (the rod must be narrower than the head)",
-                    g.head_radius
-                ),
-            ));
-        }
-        // The rod [−r, r] × [0, l] must reach into the head disc and must not end inside the hole:
-        // its end meets the head circle at distance l − sqrt(R² − r²) from the pivot, which must be > 0,
-        // and the rod end (the head centre) lies in the hole, so the rod's sides must meet the head ring
-        // outside the hole: sqrt(R² − r²) > sqrt(max(h² − r², 0)) holds whenever R > h.
-        let reach = (g.head_radius * g.head_radius - g.rod_half_width * g.rod_half_width).sqrt();
-        if g.head_center_distance <= reach {
-            return Err(range(
-                "geometry.head_center_distance",
-                g.head_center_distance,
-                &format!(
-                    "head_center_distance > sqrt(head_radius² − rod_half_width²) = {reach:.6} m \
-                     (the head would swallow the pivot; the rod must have a free length)"
-                ),
-            ));
-        }
-        let m = &self.mesh;
-        positive("mesh.max_size", m.max_size, "m")?;
-        if !(m.order == 1 || m.order == 2) {
-            return Err(Error::Config(format!(
-                "mesh.order = {}: allowed values are 1 and 2",
-                m.order
-            )));
-        }
-        for (key, v) in [
-            ("mesh.rod_size", m.rod_size),
-            ("mesh.head_size", m.head_size),
-            ("mesh.hinge_edge_size", m.hinge_edge_size),
-            ("mesh.hinge_corner_size", m.hinge_corner_size),
-            ("mesh.circle_edge_size", m.circle_edge_size),
-        ] {
-            if let Some(v) = v {
-                positive(key, v, "m")?;
-            }
-        }
-        within("mesh.grading", m.grading, 0.05, 1.0, "")?;
-        within("mesh.refine", m.refine, 0.1, 100.0, "(divides every mesh size)")?;
-        let sizes = self.mesh_sizes();
-        let smallest = [
-            sizes.max_size,
-            sizes.rod,
-            sizes.head,
-            sizes.hinge_edge,
-            sizes.hinge_corner,
-            sizes.circle_edge,
-        ]
-        .into_iter()
-        .fold(f64::INFINITY, f64::min);
-        let scale = g.head_center_distance + g.head_radius;
-        if smallest < scale * 1e-5 {
-            return Err(Error::Config(format!(
-                "mesh sizes: the smallest local size {smallest:e} m is below 1e-5 × the pendulum length ({:e} m); \
-                 allowed: sizes >= {:e} m",
-                scale,
-                scale * 1e-5
-            )));
-        }
-        let mat = &self.material;
-        positive("material.youngs_modulus", mat.youngs_modulus, "Pa")?;
-        if !(mat.poisson_ratio > -1.0 && mat.poisson_ratio < 0.5) {
-            return Err(range(
-                "material.poisson_ratio",
-                mat.poisson_ratio,
-                "-1 < poisson_ratio < 0.5",
-            ));
-        }
-        if mat.model == MaterialModel::NeoHookean && mat.poisson_ratio <= 0.0 {
-            return Err(range(
-                "material.poisson_ratio",
-                mat.poisson_ratio,
-                "0 < poisson_ratio < 0.5 for the neo-hookean model (its energy divides by λ)",
-            ));
-        }
-        positive("material.density", mat.density, "kg/m^3")?;
-        non_negative("gravity.g", self.gravity.g, "m/s^2")?;
-        within("initial.angle_deg", self.initial.angle_deg, -360.0, 360.0, "deg")?;
-        finite("initial.angular_velocity", self.initial.angular_velocity)?;
-        if self.initial.elastic == Some(InitialElastic::Equilibrium)
-            && self.initial.acceleration == InitialAcceleration::Zero
-        {
-            return Err(Error::Config(
-                "initial.elastic = \"equilibrium\" needs initial.acceleration = \"rigid\" (a tilted body with zero \
-                 acceleration has no equilibrium); allowed with \"zero\": \"undeformed\""
-                    .into(),
-            ));
-        }
-        positive("time.dt", self.time.dt, "s")?;
-        non_negative("time.end", self.time.end, "s")?;
-        within("time.hht_alpha", self.time.hht_alpha, -1.0 / 3.0, 0.0, "")?;
-        if !(self.time.dissipation >= 0.0 && self.time.dissipation < 1.0) {
-            return Err(range(
-                "time.dissipation",
-                self.time.dissipation,
-                "0 <= dissipation < 1 (0: exact energy conservation)",
-            ));
-        }
-        if self.time.dissipation != 0.0 && self.time.scheme != Scheme::EnergyMomentum {
-            return Err(Error::Config(format!(
-                "time.dissipation = {}: it belongs to time.scheme = \"energy-momentum\" (the Newmark schemes \
-                 have time.hht_alpha with time.scheme = \"hht\" instead)",
-                self.time.dissipation
-            )));
-        }
-        within("time.max_rotation_deg", self.time.max_rotation_deg, 0.1, 90.0, "deg")?;
-        if self.time.end > 0.0 && self.time.dt > self.time.end {
-            return Err(range(
-                "time.dt",
-                self.time.dt,
-                &format!("0 < dt <= time.end = {} s", self.time.end),
-            ));
-        }
-        if self.time.steps() > 10_000_000 {
-            return Err(Error::Config(format!(
-                "time.end / time.dt = {:.0} steps: at most 10000000 steps are allowed",
-                self.time.end / self.time.dt
-            )));
-        }
-        let s = &self.solver;
-        if !(s.tolerance > 0.0 && s.tolerance.is_finite()) {
-            return Err(range("solver.tolerance", s.tolerance, "tolerance > 0 (J)"));
-        }
-        if !(s.energy_tolerance > 0.0 && s.energy_tolerance <= 1e-3) {
-            return Err(range(
-                "solver.energy_tolerance",
-                s.energy_tolerance,
-                "0 < energy_tolerance <= 1e-3 (relative energy error per step)",
-            ));
-        }
-        if !(1..=1000).contains(&s.max_iterations) {
-            return Err(Error::Config(format!(
-                "solver.max_iterations = {}: allowed range 1 to 1000",
-                s.max_iterations
-            )));
-        }
-        if s.max_cutbacks > 30 {
-            return Err(Error::Config(format!(
-                "solver.max_cutbacks = {}: allowed range 0 to 30",
-                s.max_cutbacks
-            )));
-        }
-        let t = &self.torque;
-        finite("torque.amplitude", t.amplitude)?;
-        non_negative("torque.start", t.start, "s")?;
-        non_negative("torque.duration", t.duration, "s")?;
-        non_negative("torque.frequency", t.frequency, "Hz")?;
-        finite("torque.phase", t.phase)?;
-        if t.profile == TorqueProfile::Ramp && t.duration <= 0.0 {
-            return Err(range(
-                "torque.duration",
-                t.duration,
-                "duration > 0 s for profile = \"ramp\"",
-            ));
-        }
-        if t.profile == TorqueProfile::Sine && t.frequency <= 0.0 {
-            return Err(range(
-                "torque.frequency",
-                t.frequency,
-                "frequency > 0 Hz for profile = \"sine\"",
-            ));
-        }
-        if t.profile == TorqueProfile::Table && t.file.is_none() {
-            return Err(Error::Config(
-                "torque.file: required for profile = \"table\" (a CSV time_s,torque_Nm)".into(),
-            ));
-        }
-        self.validate_wall()?;
-        let o = &self.output;
-        if o.every == 0 {
-            return Err(Error::Config("output.every = 0: allowed range 1 and up".into()));
-        }
-        if o.paraview_every == Some(0) {
-            return Err(Error::Config(
-                "output.paraview_every = 0: allowed range 1 and up (output.paraview = false writes no frames)".into(),
-            ));
-        }
-        non_negative(
-            "output.energy_watchdog",
-            o.energy_watchdog,
-            "(a fraction of the energy scale; 0: off)",
-        )?;
-        if let Some(mag) = o.magnification {
-            if !(mag >= 0.0 && mag.is_finite()) {
-                return Err(range(
-                    "output.magnification",
-                    mag,
-                    "magnification >= 0 (omit the key for automatic)",
-                ));
-            }
-        }
-        if o.max_frames < 2 {
-            return Err(Error::Config(format!(
-                "output.max_frames = {}: allowed range 2 and up",
-                o.max_frames
-            )));
-        }
-        Ok(())
-    }
-}
-
-impl Config {
-    /// The `[wall]` and `[contact]` sections (the wall's overlap with the pendulum at its release
-    /// angle is checked with the mesh, by the model).
-    fn validate_wall(&self) -> Result<(), Error> {
-        let w = &self.wall;
-        finite("wall.x", w.x)?;
-        finite("wall.center_y", w.center_y)?;
-        if w.kind == WallKind::Deformable {
-            positive("wall.width", w.width, "m")?;
-            positive("wall.height", w.height, "m")?;
-            positive("wall.youngs_modulus", w.youngs_modulus, "Pa")?;
-            if !(w.poisson_ratio > 0.0 && w.poisson_ratio < 0.5) {
-                return Err(range("wall.poisson_ratio", w.poisson_ratio, "0 < poisson_ratio < 0.5"));
-            }
-            positive("wall.density", w.density, "kg/m^3")?;
-            positive("wall.thickness", w.thickness, "m")?;
-            positive("wall.mesh_size", w.mesh_size, "m")?;
-            positive("wall.face_size", w.face_size, "m")?;
-            for (key, size) in [("wall.mesh_size", w.mesh_size), ("wall.face_size", w.face_size)] {
-                if size > w.width.max(w.height) || size < 1e-5 * w.height {
-                    return Err(range(
-                        key,
-                        size,
-                        &format!(
-                            "1e-5 x wall.height <= size <= the block's size ({} m)",
-                            w.width.max(w.height)
-                        ),
-                    ));
-                }
-            }
-        }
-        let c = &self.contact;
-        positive("contact.stiffness", c.stiffness, "N/m^3")?;
-        if !(1..=64).contains(&c.points_per_edge) {
-            return Err(Error::Config(format!(
-                "contact.points_per_edge = {}: allowed range 1 to 64",
-                c.points_per_edge
-            )));
-        }
-        if !(4..=1000).contains(&c.substeps) {
-            return Err(Error::Config(format!(
-                "contact.substeps = {}: allowed range 4 to 1000",
-                c.substeps
-            )));
-        }
-        if w.kind != WallKind::None
-            && c.method == ContactMethod::EnergyConsistent
-            && self.time.scheme != Scheme::EnergyMomentum
-        {
-            return Err(Error::Config(format!(
-                "contact.method = \"energy-consistent\" needs time.scheme = \"energy-momentum\" (this run has \"{}\"); \
-                 the Newmark schemes evaluate the contact force at the end of the step: set contact.method = \"penalty\"",
-                self.time.scheme.name()
-            )));
-        }
-        Ok(())
+        self.geometry.validate()?;
+        self.mesh.validate(&self.geometry)?;
+        self.material.validate()?;
+        self.gravity.validate()?;
+        self.initial.validate()?;
+        self.time.validate()?;
+        self.solver.validate()?;
+        self.torque.validate()?;
+        self.wall.validate()?;
+        self.contact.validate(&self.wall, self.time.scheme)?;
+        self.output.validate()
     }
 }
 

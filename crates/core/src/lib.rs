@@ -54,7 +54,9 @@ pub mod mesh;
 pub use config::Config;
 pub use error::Error;
 pub use mesh::Mesh;
-pub use simulation::{Energies, Model, Simulation, Snapshot, StepRecord};
+pub use simulation::{
+    BodySpec, ContactEvent, ContactEventKind, Energies, Frame, Model, Simulation, Snapshot, StepRecord,
+};
 pub mod assembly;
 pub mod constraint;
 pub mod element;

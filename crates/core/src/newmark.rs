@@ -74,15 +74,6 @@ impl Newmark {
         1.0 / (self.beta * dt * dt)
     }
 
-    /// Starting guess for the minimisation: constant acceleration, `uₙ + Δt vₙ + Δt²/2 aₙ`.
-    pub fn initial_guess(&self, dt: f64, s: &State) -> Vec<f64> {
-        s.u.iter()
-            .zip(&s.v)
-            .zip(&s.a)
-            .map(|((u, v), a)| u + dt * v + 0.5 * dt * dt * a)
-            .collect()
-    }
-
     /// The state at `t + Δt` from the minimiser `u_new`.
     pub fn correct(&self, dt: f64, old: &State, u_new: Vec<f64>) -> State {
         let u_pred = self.predict_u(dt, old);

@@ -127,10 +127,9 @@ pub const ROUNDING_FACTOR: f64 = 10.0;
 /// A reused factorisation must reduce the residual at least by this factor per iteration.
 pub const REFACTOR_CONTRACTION: f64 = 0.5;
 
-/// `angle` wrapped into `(−π, π]`.
+/// `angle` wrapped into `[−π, π]` (the representative closest to 0, [`crate::post::unwrap_near`]).
 pub fn wrap_angle(angle: f64) -> f64 {
-    let tau = std::f64::consts::TAU;
-    angle - tau * (angle / tau).round()
+    crate::post::unwrap_near(angle, 0.0)
 }
 
 /// Rotates every `(x, y)` pair of `v` by `angle`.

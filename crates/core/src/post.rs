@@ -25,7 +25,6 @@ use crate::fe::{for_each_point, FeCache};
 use crate::material::{von_mises, Material};
 use crate::quadrature::TriangleRule;
 use crate::terms::elastic::deformation_gradient;
-use crate::terms::inertia::MassMatrix;
 use crate::{Error, Mesh};
 
 /// The linear functionals of the proxy angle.
@@ -75,8 +74,34 @@ impl RigidProjection {
     pub fn angle(&self, u: &[f64]) -> f64 {
         let s: f64 = self.sin_weights.iter().zip(u).map(|(w, x)| w * x).sum();
         let c: f64 = self.cos_weights.iter().zip(u).map(|(w, x)| w * x).sum();
-        s.atan2(self.polar + c)
+        best_fit_angle(self.polar + c, s, None)
     }
+}
+
+/// The best-fit rotation angle about the pivot of a displaced set of points \[rad\], from its two
+/// moments `c = ∫ X·x` and `s = ∫ X × x` (reference positions `X`, current `x`; any positive
+/// weighting): `atan2(s, c)`, in `(−π, π]` without a `reference`, else on the branch within π of
+/// `reference` (`(c, s)` is turned by `−reference`, `atan2` taken, `reference` added back, so
+/// that no large angle enters `atan2`). The proxy angle ([`RigidProjection::angle`]), the
+/// torque's hub angle ([`crate::terms::torque::HubAngle::angle_near`]) and the turn between two
+/// hub states in its discrete gradient (`c = z₀·z₁`, `s = z₀ × z₁`) are this of their moments.
+pub fn best_fit_angle(c: f64, s: f64, reference: Option<f64>) -> f64 {
+    match reference {
+        None => s.atan2(c),
+        Some(reference) => {
+            let (sr, cr) = reference.sin_cos();
+            // rotate (c, s) by −reference
+            let (c1, s1) = (c * cr + s * sr, s * cr - c * sr);
+            reference + s1.atan2(c1)
+        }
+    }
+}
+
+/// The angle equal to `angle` modulo 2π that is closest to `reference` \[rad\]: the one unwrapping
+/// rule ([`Unwrap`] with the previous value, [`crate::newton::wrap_angle`] with 0).
+pub fn unwrap_near(angle: f64, reference: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    angle + tau * ((reference - angle) / tau).round()
 }
 
 /// Keeps an angle continuous across the ±π branch cut of `atan2`.
@@ -93,24 +118,13 @@ impl Unwrap {
 
     /// The continuous angle closest to the previous one that equals `wrapped` modulo 2π.
     pub fn next(&mut self, wrapped: f64) -> f64 {
-        let tau = std::f64::consts::TAU;
         let value = match self.last {
             None => wrapped,
-            Some(prev) => wrapped + tau * ((prev - wrapped) / tau).round(),
+            Some(prev) => unwrap_near(wrapped, prev),
         };
         self.last = Some(value);
         value
     }
-}
-
-/// `(∫ x × w dA, ∫ x·x dA)` up to the common factor ρ t, for interleaved nodal positions `x` and a
-/// field `w`, through the mass matrix.
-pub fn moment_of(mass: &MassMatrix, x: &[f64], w: &[f64], scratch: &mut Vec<f64>) -> f64 {
-    scratch.resize(x.len(), 0.0);
-    mass.apply(w, scratch);
-    (0..x.len() / 2)
-        .map(|a| x[2 * a] * scratch[2 * a + 1] - x[2 * a + 1] * scratch[2 * a])
-        .sum()
 }
 
 /// Nodal stresses of a state.

@@ -327,7 +327,7 @@ impl Model {
     pub fn applied_torque(&self, t: f64, held: Option<f64>) -> f64 {
         self.torque
             .as_ref()
-            .map_or(0.0, |torque| held.unwrap_or_else(|| torque.profile.value(t)))
+            .map_or(0.0, |torque| held.unwrap_or_else(|| torque.value(t)))
     }
 
     /// The load terms after the bodies' own: the torque (if any), the wall's contact (if any), then

@@ -58,12 +58,4 @@ impl SizeField {
         }
         h
     }
-
-    /// The smallest size of any source (a lower bound of `h`).
-    pub fn min_size(&self) -> f64 {
-        let sources = self.edges.iter().map(|e| e.1).chain(self.corners.iter().map(|c| c.1));
-        sources
-            .chain(self.regions.iter().map(|r| r.1))
-            .fold(self.max_size, f64::min)
-    }
 }

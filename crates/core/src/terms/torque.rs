@@ -3,11 +3,12 @@
 //!
 //! ## Time profile
 //!
-//! [`TorqueProfile`] evaluates `M(t)` from the `[torque]` section: `constant` (`A`), `step` (`A` for
+//! The term keeps the `[torque]` section itself ([`config::Torque`], the one description of the
+//! profile) and [`Torque::value`] evaluates its `M(t)`: `constant` (`A`), `step` (`A` for
 //! `t ≥ start`, 0 before), `ramp` (0 before `start`, linear to `A` at `start + duration`, `A` after),
 //! `sine` (`A sin(2π f (t − start) + phase)` for `t ≥ start`, 0 before) and `table` (a CSV
-//! `time_s,torque_Nm`, linear interpolation, constant extrapolation beyond both ends; read once at
-//! set-up, every defect is an error naming the file and the line).
+//! `time_s,torque_Nm`, [`TorqueTable`]: linear interpolation, constant extrapolation beyond both
+//! ends; read once at set-up, every defect is an error naming the file and the line).
 //!
 //! ## Follower torque (`follower = true`, the default): the hub angle
 //!
@@ -86,109 +87,35 @@ use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
 use crate::config;
 use crate::fe::for_each_edge_point;
+use crate::post::best_fit_angle;
 use crate::{Error, Mesh};
 use std::path::Path;
 
-/// `M(t)` \[N·m\], counter-clockwise positive.
+/// The samples of a `profile = "table"` torque: `(time, torque)` pairs, evaluated by
+/// piecewise-linear interpolation, constant beyond both ends.
 #[derive(Clone, Debug, PartialEq)]
-pub enum TorqueProfile {
-    /// No torque: `M = 0`.
-    Zero,
-    /// `M = amplitude`.
-    Constant {
-        /// \[N·m\]
-        amplitude: f64,
-    },
-    /// `M = amplitude` for `t ≥ start`, 0 before.
-    Step {
-        /// \[N·m\]
-        amplitude: f64,
-        /// \[s\]
-        start: f64,
-    },
-    /// 0 before `start`, linear to `amplitude` at `start + duration`, `amplitude` after.
-    Ramp {
-        /// \[N·m\]
-        amplitude: f64,
-        /// \[s\]
-        start: f64,
-        /// Rise time \[s\], > 0.
-        duration: f64,
-    },
-    /// `amplitude sin(2π frequency (t − start) + phase)` for `t ≥ start`, 0 before.
-    Sine {
-        /// \[N·m\]
-        amplitude: f64,
-        /// \[s\]
-        start: f64,
-        /// \[Hz\]
-        frequency: f64,
-        /// \[rad\]
-        phase: f64,
-    },
-    /// Piecewise-linear interpolation of `(time, torque)` samples, constant beyond both ends.
-    Table {
-        /// Sample times, strictly increasing \[s\] (at least two).
-        times: Vec<f64>,
-        /// Torques at those times \[N·m\].
-        torques: Vec<f64>,
-    },
+pub struct TorqueTable {
+    /// Sample times, strictly increasing \[s\] (at least two).
+    pub times: Vec<f64>,
+    /// Torques at those times \[N·m\].
+    pub torques: Vec<f64>,
 }
 
-impl TorqueProfile {
-    /// The profile described by the `[torque]` section; reads the table file for `table`.
-    pub fn from_config(cfg: &config::Torque) -> Result<Self, Error> {
-        use config::TorqueProfile as P;
-        let amplitude = cfg.amplitude;
-        Ok(match cfg.profile {
-            P::None => Self::Zero,
-            P::Constant => Self::Constant { amplitude },
-            P::Step => Self::Step {
-                amplitude,
-                start: cfg.start,
-            },
-            P::Ramp => {
-                if cfg.duration <= 0.0 {
-                    return Err(Error::Config(format!(
-                        "torque.duration = {}: allowed duration > 0 s for profile = \"ramp\"",
-                        cfg.duration
-                    )));
-                }
-                Self::Ramp {
-                    amplitude,
-                    start: cfg.start,
-                    duration: cfg.duration,
-                }
-            }
-            P::Sine => Self::Sine {
-                amplitude,
-                start: cfg.start,
-                frequency: cfg.frequency,
-                phase: cfg.phase,
-            },
-            P::Table => {
-                let path = cfg.file.as_ref().ok_or_else(|| {
-                    Error::Config("torque.file: required for profile = \"table\" (a CSV time_s,torque_Nm)".into())
-                })?;
-                Self::read_table(path)?
-            }
-        })
-    }
-
-    /// Reads a table profile: a CSV with the header `time_s,torque_Nm` and at least two rows of
-    /// numbers with strictly increasing times. Blank lines and lines starting with `#` are skipped.
-    pub fn read_table(path: &Path) -> Result<Self, Error> {
+impl TorqueTable {
+    /// Reads a table: a CSV with the header `time_s,torque_Nm` and at least two rows of numbers
+    /// with strictly increasing times. Blank lines and lines starting with `#` are skipped.
+    pub fn read(path: &Path) -> Result<Self, Error> {
         let text = std::fs::read_to_string(path).map_err(|e| {
             Error::Config(format!(
                 "torque.file = {}: cannot read the torque table: {e}",
                 path.display()
             ))
         })?;
-        Self::parse_table(&text, &path.display().to_string())
+        Self::parse(&text, &path.display().to_string())
     }
 
-    /// Parses the text of a table profile; `source` names the file in error messages.
-    pub fn parse_table(text: &str, source: &str) -> Result<Self, Error> {
+    /// Parses the text of a table; `source` names the file in error messages.
+    pub fn parse(text: &str, source: &str) -> Result<Self, Error> {
         let err = |line: usize, msg: String| Error::Input(format!("{source}:{line}: {msg}"));
         let mut lines = text
             .lines()
@@ -238,57 +165,28 @@ impl TorqueProfile {
                 times.len()
             )));
         }
-        Ok(Self::Table { times, torques })
+        Ok(Self { times, torques })
     }
 
-    /// `M(t)` \[N·m\].
+    /// The interpolated torque at `t` \[N·m\].
     pub fn value(&self, t: f64) -> f64 {
-        match self {
-            Self::Zero => 0.0,
-            Self::Constant { amplitude } => *amplitude,
-            Self::Step { amplitude, start } => {
-                if t >= *start {
-                    *amplitude
-                } else {
-                    0.0
-                }
-            }
-            Self::Ramp {
-                amplitude,
-                start,
-                duration,
-            } => amplitude * ((t - start) / duration).clamp(0.0, 1.0),
-            Self::Sine {
-                amplitude,
-                start,
-                frequency,
-                phase,
-            } => {
-                if t >= *start {
-                    amplitude * (std::f64::consts::TAU * frequency * (t - start) + phase).sin()
-                } else {
-                    0.0
-                }
-            }
-            Self::Table { times, torques } => {
-                let n = times.len();
-                if t <= times[0] {
-                    return torques[0];
-                }
-                if t >= times[n - 1] {
-                    return torques[n - 1];
-                }
-                // first index with times[k] > t; 1 ≤ k ≤ n − 1
-                let k = times.partition_point(|&x| x <= t);
-                let (t0, t1) = (times[k - 1], times[k]);
-                let (m0, m1) = (torques[k - 1], torques[k]);
-                m0 + (m1 - m0) * (t - t0) / (t1 - t0)
-            }
+        let (times, torques) = (&self.times, &self.torques);
+        let n = times.len();
+        if t <= times[0] {
+            return torques[0];
         }
+        if t >= times[n - 1] {
+            return torques[n - 1];
+        }
+        // first index with times[k] > t; 1 ≤ k ≤ n − 1
+        let k = times.partition_point(|&x| x <= t);
+        let (t0, t1) = (times[k - 1], times[k]);
+        let (m0, m1) = (torques[k - 1], torques[k]);
+        m0 + (m1 - m0) * (t - t0) / (t1 - t0)
     }
 }
 
-/// How the torque load acts.
+/// How the torque load acts (`torque.follower`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TorqueMode {
     /// `Π = −M θ_hub(u)`: a pure couple `M` at every angle.
@@ -367,10 +265,7 @@ impl HubAngle {
     /// `θ_hub(u)` \[rad\], the branch within π of `reference`.
     pub fn angle_near(&self, u: &[f64], reference: f64) -> f64 {
         let (c, s) = self.cos_sin(u);
-        let (sr, cr) = reference.sin_cos();
-        // rotate (c, s) by −reference
-        let (c1, s1) = (c * cr + s * sr, s * cr - c * sr);
-        reference + s1.atan2(c1)
+        best_fit_angle(c, s, Some(reference))
     }
 
     /// `∂θ_hub/∂u` on the hinge-edge degrees of freedom, in the order `[x, y]` per node of
@@ -392,10 +287,10 @@ impl HubAngle {
 /// The actuator torque as an energy term (see the module doc).
 #[derive(Debug)]
 pub struct Torque {
-    /// `M(t)`.
-    pub profile: TorqueProfile,
-    /// Follower or fixed direction.
-    pub mode: TorqueMode,
+    /// The `[torque]` section it was built from: the time profile `M(t)` and `follower`.
+    pub profile: config::Torque,
+    /// The samples of `profile.file` for `profile = "table"`, read once at set-up.
+    pub table: Option<TorqueTable>,
     /// Hinge-edge weights.
     pub hub: HubAngle,
     /// Global degrees of freedom of the hinge edge, `[2n, 2n+1]` per node of `hub.nodes`.
@@ -403,31 +298,72 @@ pub struct Torque {
 }
 
 impl Torque {
-    /// The torque of `profile` acting through boundary `name` of `mesh`.
-    pub fn new(mesh: &Mesh, name: &str, profile: TorqueProfile, mode: TorqueMode) -> Result<Self, Error> {
+    /// The torque described by the `[torque]` section acting through boundary `name` of `mesh`;
+    /// reads the table file for `profile = "table"`.
+    pub fn from_config(mesh: &Mesh, name: &str, cfg: &config::Torque) -> Result<Self, Error> {
+        use config::TorqueProfile as P;
+        if cfg.profile == P::Ramp && cfg.duration <= 0.0 {
+            return Err(Error::Config(format!(
+                "torque.duration = {}: allowed duration > 0 s for profile = \"ramp\"",
+                cfg.duration
+            )));
+        }
+        let table = if cfg.profile == P::Table {
+            let path = cfg.file.as_ref().ok_or_else(|| {
+                Error::Config("torque.file: required for profile = \"table\" (a CSV time_s,torque_Nm)".into())
+            })?;
+            Some(TorqueTable::read(path)?)
+        } else {
+            None
+        };
         let hub = HubAngle::new(mesh, name)?;
         let dofs = hub.nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect();
         Ok(Self {
-            profile,
-            mode,
+            profile: cfg.clone(),
+            table,
             hub,
             dofs,
         })
     }
 
-    /// The term described by the `[torque]` section (mode from `follower`).
-    pub fn from_config(mesh: &Mesh, name: &str, cfg: &config::Torque) -> Result<Self, Error> {
-        let mode = if cfg.follower {
+    /// Follower or fixed direction (`torque.follower`).
+    pub fn mode(&self) -> TorqueMode {
+        if self.profile.follower {
             TorqueMode::Follower
         } else {
             TorqueMode::Fixed
-        };
-        Self::new(mesh, name, TorqueProfile::from_config(cfg)?, mode)
+        }
+    }
+
+    /// The profile's `M(t)` \[N·m\], counter-clockwise positive (see [`config::TorqueProfile`]).
+    pub fn value(&self, t: f64) -> f64 {
+        use config::TorqueProfile as P;
+        let c = &self.profile;
+        match c.profile {
+            P::None => 0.0,
+            P::Constant => c.amplitude,
+            P::Step => {
+                if t >= c.start {
+                    c.amplitude
+                } else {
+                    0.0
+                }
+            }
+            P::Ramp => c.amplitude * ((t - c.start) / c.duration).clamp(0.0, 1.0),
+            P::Sine => {
+                if t >= c.start {
+                    c.amplitude * (std::f64::consts::TAU * c.frequency * (t - c.start) + c.phase).sin()
+                } else {
+                    0.0
+                }
+            }
+            P::Table => self.table.as_ref().map_or(0.0, |table| table.value(t)),
+        }
     }
 
     /// The torque `M` \[N m\] at time `t` of the context's step: the held input, else the profile.
     pub fn moment_at(&self, t: f64, cx: &StepContext) -> f64 {
-        cx.torque.unwrap_or_else(|| self.profile.value(t))
+        cx.torque.unwrap_or_else(|| self.value(t))
     }
 
     /// `θ_hub` at the start of the context's step, on the branch of the unwrapped proxy angle
@@ -444,7 +380,7 @@ impl Torque {
     /// The generalised force `f = −∂Π/∂u` of a torque `m` \[N m\] on the hinge-edge degrees of
     /// freedom ([`Torque::dofs`]) \[N\].
     pub fn local_force(&self, u: &[f64], m: f64) -> Vec<f64> {
-        match self.mode {
+        match self.mode() {
             TorqueMode::Follower => self.hub.gradient_local(u).into_iter().map(|g| m * g).collect(),
             TorqueMode::Fixed => self.hub.wx.iter().flat_map(|w| [0.0, m * w / self.hub.xx]).collect(),
         }
@@ -481,7 +417,7 @@ impl Term for Torque {
 
     fn energy(&self, u: &[f64], cx: &StepContext) -> f64 {
         let m = self.moment_at(cx.t, cx);
-        match self.mode {
+        match self.mode() {
             TorqueMode::Follower => -m * self.hub_angle(u, cx),
             TorqueMode::Fixed => {
                 let uy: f64 = self
@@ -503,7 +439,7 @@ impl Term for Torque {
     }
 
     fn add_hessian(&self, u: &[f64], cx: &StepContext, pattern: &Pattern, values: &mut [f64]) {
-        if self.mode == TorqueMode::Fixed {
+        if self.mode() == TorqueMode::Fixed {
             return;
         }
         let m = self.moment_at(cx.t, cx);
@@ -532,7 +468,7 @@ impl Term for Torque {
     }
 
     fn hessian_entries(&self) -> Vec<(usize, usize)> {
-        if self.mode == TorqueMode::Fixed {
+        if self.mode() == TorqueMode::Fixed {
             return Vec::new();
         }
         let mut e = Vec::with_capacity(self.dofs.len() * (self.dofs.len() + 1) / 2);
@@ -561,7 +497,7 @@ impl Term for Torque {
         let u0 = start.u;
         let (m0, m1) = (self.moment_at(start.t, cx), self.moment_at(cx.t, cx));
         let m_mean = 0.5 * (m0 + m1);
-        match self.mode {
+        match self.mode() {
             TorqueMode::Fixed => {
                 let (f0, f1) = (self.local_force(u0, m0), self.local_force(u1, m1));
                 for (k, &d) in self.dofs.iter().enumerate() {
@@ -572,7 +508,7 @@ impl Term for Torque {
                 let (c0, s0) = self.hub.cos_sin(u0);
                 let (c1, s1) = self.hub.cos_sin(u1);
                 // the turn from z₀ to z₁, exact to rounding (no large absolute angles involved)
-                let dth = (c0 * s1 - s0 * c1).atan2(c0 * c1 + s0 * s1);
+                let dth = best_fit_angle(c0 * c1 + s0 * s1, c0 * s1 - s0 * c1, None);
                 let (cm, sm) = (0.5 * (c0 + c1), 0.5 * (s0 + s1));
                 let rm2 = cm * cm + sm * sm;
                 let (mut a, mut b) = (-sm / rm2, cm / rm2);
@@ -596,7 +532,7 @@ impl Term for Torque {
     }
 
     fn external_work(&self, u1: &[f64], cx: &StepContext) -> f64 {
-        if self.mode == TorqueMode::Follower {
+        if self.mode() == TorqueMode::Follower {
             return self.angle_work(u1, cx);
         }
         let u0 = cx.u0;
@@ -616,7 +552,7 @@ mod tests {
 
     #[test]
     fn table_interpolates_linearly_and_extrapolates_constantly() {
-        let p = TorqueProfile::parse_table("time_s,torque_Nm\n0.5,1\n1.0,3\n2.0,-1\n", "t.csv").unwrap();
+        let p = TorqueTable::parse("time_s,torque_Nm\n0.5,1\n1.0,3\n2.0,-1\n", "t.csv").unwrap();
         assert_eq!(p.value(0.0), 1.0);
         assert_eq!(p.value(0.5), 1.0);
         assert!((p.value(0.75) - 2.0).abs() < 1e-15);
