@@ -16,8 +16,10 @@
 //! over the kept frames is drawn as 5 % of the pendulum size (largest `|X|`), rounded to two
 //! significant digits; every frame states it ("elastic part × 1.2e5"). The colour scale runs from
 //! 0 to the largest value over all kept frames, so colours compare across frames; a colour bar
-//! with ticks in physical units, the time, the pivot (a red dot at the origin) and, optionally, a
-//! wall (a vertical grey line at `x = wall_x`) are drawn on every frame.
+//! with ticks in physical units, the time, the pivot (a red dot at the origin) and, optionally, the
+//! rigid wall (the half-plane `x ≤ wall_x`: a hatched light grey band from the left edge of the
+//! picture to a grey face line at `x = wall_x`, with room for it kept left of the face) are drawn on
+//! every frame.
 //!
 //! Each six-node triangle is drawn as four straight sub-triangles through its corner and mid-edge
 //! nodes, the colour interpolated linearly over each (`raster.rs`).
@@ -255,7 +257,9 @@ impl Scene {
             }
         }
         if let Some(w) = wall_x {
-            b[0] = b[0].min(w);
+            // room for a band of wall left of the face: 6 % of the picture's size
+            let size = (b[2] - b[0]).max(b[3] - b[1]).max(1e-9);
+            b[0] = b[0].min(w - 0.06 * size);
             b[2] = b[2].max(w);
         }
         let pad = 0.04 * (b[2] - b[0]).max(b[3] - b[1]).max(1e-9);
@@ -298,10 +302,6 @@ pub fn write_gif(path: &Path, mesh: &Mesh, frames: &[KeptFrame], field: AnimFiel
     let render = |i: usize| -> Canvas {
         let f = &frames[i];
         let mut c = template.clone();
-        if let Some(wx) = scene.wall_x {
-            let x = to_px([wx, 0.0])[0];
-            c.fill_rect(x.round() as i32 - 1, PLOT[1], x.round() as i32 + 2, PLOT[3], GREY);
-        }
         let pos: Vec<[f32; 2]> = f
             .drawn_positions(&mesh.nodes, scene.magnification)
             .into_iter()
@@ -417,6 +417,39 @@ fn delay_cs(frames: &[KeptFrame], i: usize) -> u16 {
     (dt * 100.0).round().clamp(2.0, 50.0) as u16
 }
 
+/// Palette index of the wall band's fill (a light grey).
+pub const WALL_FILL: u8 = LIGHT_GREY;
+/// Palette index of the wall band's hatching and face (a mid grey).
+pub const WALL_HATCH: u8 = GREY;
+
+/// The pixel column of the wall's face in the animation frames of `scene` (`None` without a wall).
+pub fn wall_pixel_x(scene: &Scene) -> Option<f32> {
+    scene.wall_x.map(|w| pixel_map(scene)([w, 0.0])[0])
+}
+
+/// The rigid wall, the half-plane left of the face at pixel column `face`: a light grey band from
+/// the left edge of the pendulum area to the face, hatched at 45°, with a 3 px face line.
+fn draw_wall_band(c: &mut Canvas, face: f32) {
+    let face = (face.round() as i32).clamp(PLOT[0], PLOT[2]);
+    let (x0, y0, y1) = (PLOT[0] + 1, PLOT[1] + 1, PLOT[3]);
+    if face <= x0 {
+        return;
+    }
+    c.fill_rect(x0, y0, face, y1, WALL_FILL);
+    // hatching: lines x − y = const every 10 px, clipped to the band
+    let mut k = x0 - y1;
+    while k < face - y0 {
+        for y in y0..y1 {
+            let x = k + y;
+            if (x0..face).contains(&x) {
+                c.put(x, y, WALL_HATCH);
+            }
+        }
+        k += 10;
+    }
+    c.fill_rect(face - 1, y0, face + 2, y1, WALL_HATCH);
+}
+
 /// Maps model coordinates \[m\] to pixels of the pendulum area (equal aspect, centred, y up).
 fn pixel_map(scene: &Scene) -> impl Fn([f64; 2]) -> [f32; 2] + Sync {
     let [x0, y0, x1, y1] = scene.bounds;
@@ -437,6 +470,9 @@ fn frame_template(font: &Text, field: AnimField, vmax: f64, scene: &Scene) -> Ca
         raster::two_digits(scene.magnification)
     );
     c.text(font, 13.0, &caption, (w - 8) as f32, 11.0, Anchor::TopRight);
+    if let Some(face) = wall_pixel_x(scene) {
+        draw_wall_band(&mut c, face);
+    }
     // frame around the pendulum area
     let [x0, y0, x1, y1] = PLOT.map(|v| v as f32);
     for (a, b) in [

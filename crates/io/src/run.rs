@@ -439,20 +439,27 @@ fn run_steps(
             eprintln!("{warning}");
         }
     }
+    // the wall (when there is one) is drawn in the pictures and is a block of the ParaView output
+    let wall = crate::writers::WallOutput::of(cfg, &sim.model.mesh);
+    let wall_x = wall.as_ref().map(|w| w.face_x);
+    let with_wall = |w: FrameWriters| match &wall {
+        Some(wall) => w.with_wall(wall.clone()),
+        None => Ok(w),
+    };
     let mut writers = match (frames, opts.restart) {
-        (true, false) => Some(FrameWriter::start(FrameWriters::new(
+        (true, false) => Some(FrameWriter::start(with_wall(FrameWriters::new(
             &out_dir,
             &sim.model.mesh,
             o,
-            None,
-        )?)),
-        (true, true) => Some(FrameWriter::start(FrameWriters::resume(
+            wall_x,
+        )?)?)),
+        (true, true) => Some(FrameWriter::start(with_wall(FrameWriters::resume(
             &out_dir,
             &sim.model.mesh,
             o,
-            None,
+            wall_x,
             &earlier_times,
-        )?)),
+        )?)?)),
         (false, _) => None,
     };
     let mode = if opts.quiet {
