@@ -61,16 +61,30 @@ pub struct KeptFrame {
     pub u_abs: Vec<f32>,
     /// Von Mises stress per node \[Pa\].
     pub von_mises: Vec<f32>,
+    /// The nodes `0..rotating` (the pendulum's) turn with θ; the nodes after them (a second
+    /// body, such as a deformable wall) do not: their `elastic` is their whole displacement and
+    /// they are drawn at `X + m · u`.
+    pub rotating: usize,
 }
 
 impl KeptFrame {
     /// Extracts what the pictures need from a frame of the mesh `nodes`.
     pub fn from_frame(nodes: &[[f64; 2]], frame: &Frame<'_>) -> Self {
+        Self::from_frame_of_bodies(nodes, nodes.len(), frame)
+    }
+
+    /// [`KeptFrame::from_frame`] for a model of several bodies: only the nodes `0..rotating` (the
+    /// pendulum's) turn with θ (see [`KeptFrame::rotating`]).
+    pub fn from_frame_of_bodies(nodes: &[[f64; 2]], rotating: usize, frame: &Frame<'_>) -> Self {
         let (s, c) = frame.theta.sin_cos();
         let elastic = nodes
             .iter()
             .zip(frame.displacement)
-            .map(|(x, u)| {
+            .enumerate()
+            .map(|(i, (x, u))| {
+                if i >= rotating {
+                    return [u[0] as f32, u[1] as f32];
+                }
                 let rigid = [c * x[0] - s * x[1] - x[0], s * x[0] + c * x[1] - x[1]];
                 [(u[0] - rigid[0]) as f32, (u[1] - rigid[1]) as f32]
             })
@@ -82,6 +96,7 @@ impl KeptFrame {
             elastic,
             u_abs: frame.displacement.iter().map(|u| u[0].hypot(u[1]) as f32).collect(),
             von_mises: frame.von_mises.iter().map(|&v| v as f32).collect(),
+            rotating,
         }
     }
 
@@ -91,11 +106,14 @@ impl KeptFrame {
         nodes
             .iter()
             .zip(&self.elastic)
-            .map(|(x, e)| {
-                [
-                    c * x[0] - s * x[1] + magnification * e[0] as f64,
-                    s * x[0] + c * x[1] + magnification * e[1] as f64,
-                ]
+            .enumerate()
+            .map(|(i, (x, e))| {
+                let at = if i < self.rotating {
+                    [c * x[0] - s * x[1], s * x[0] + c * x[1]]
+                } else {
+                    *x
+                };
+                [at[0] + magnification * e[0] as f64, at[1] + magnification * e[1] as f64]
             })
             .collect()
     }
@@ -533,7 +551,43 @@ mod tests {
             elastic: vec![],
             u_abs: vec![],
             von_mises: vec![],
+            rotating: 0,
         }
+    }
+
+    #[test]
+    fn nodes_of_a_second_body_do_not_turn_with_the_pendulum() {
+        // node 0 is the pendulum's, node 1 a wall's; both displaced by the same u
+        let nodes = [[0.0, -0.3], [-0.1, -0.3]];
+        let theta: f64 = 0.2;
+        let u = [[0.3 * theta.sin(), 0.3 - 0.3 * theta.cos()], [1e-6, 0.0]];
+        let zeros = [[0.0; 2]; 2];
+        let frame = Frame {
+            step: 1,
+            time: 0.01,
+            theta,
+            displacement: &u,
+            velocity: &zeros,
+            acceleration: &zeros,
+            von_mises: &[0.0; 2],
+            cauchy: &[[0.0; 3]; 2],
+        };
+        let f = KeptFrame::from_frame_of_bodies(&nodes, 1, &frame);
+        assert!(
+            f.elastic[0][0].abs() < 1e-7 && f.elastic[0][1].abs() < 1e-7,
+            "{:?}",
+            f.elastic[0]
+        );
+        assert_eq!(f.elastic[1], [1e-6, 0.0]);
+        let p = f.drawn_positions(&nodes, 1e4);
+        assert!(
+            (p[0][0] - u[0][0]).abs() < 1e-6 && (p[0][1] - (-0.3 + u[0][1])).abs() < 1e-6,
+            "{:?}",
+            p[0]
+        );
+        assert!((p[1][0] - (-0.1 + 1e-2)).abs() < 1e-9 && p[1][1] == -0.3, "{:?}", p[1]);
+        // one body: every node turns, as before
+        assert_eq!(KeptFrame::from_frame(&nodes, &frame).rotating, 2);
     }
 
     #[test]

@@ -151,6 +151,9 @@ pub struct FrameWriters {
     wall_x: Option<f64>,
     pvd: Option<PvdWriter>,
     kept: Option<KeptFrames>,
+    /// The pendulum's nodes, `0..pendulum_nodes`, turn with θ in the pictures; the nodes of the
+    /// bodies after it (a deformable wall) do not.
+    pendulum_nodes: usize,
     /// The last step written to ParaView and offered to the kept frames.
     last_pvd: Option<usize>,
     last_kept: Option<usize>,
@@ -172,6 +175,7 @@ impl FrameWriters {
             mesh: mesh.clone(),
             output: output.clone(),
             wall_x,
+            pendulum_nodes: mesh.num_nodes(),
             pvd,
             kept,
             last_pvd: None,
@@ -179,15 +183,26 @@ impl FrameWriters {
         })
     }
 
-    /// Adds the wall: the ParaView frames get the contact pressure and the wall's block (see
-    /// [`PvdWriter::set_wall`]); the pictures draw the wall at its face (as `wall_x` of
-    /// [`FrameWriters::new`] does); the plots mark the impacts of `events.csv`.
+    /// Adds the wall: the ParaView frames get the contact pressure and a rigid wall's block (see
+    /// [`PvdWriter::set_wall`]); the pictures draw a rigid wall at its face (as `wall_x` of
+    /// [`FrameWriters::new`] does; a deformable wall is a body of the mesh and drawn as such, see
+    /// [`FrameWriters::with_pendulum_nodes`]); the plots mark the impacts of `events.csv`.
     pub fn with_wall(mut self, wall: WallOutput) -> Result<Self, Error> {
-        self.wall_x = Some(wall.face_x);
+        if wall.rigid {
+            self.wall_x = Some(wall.face_x);
+        }
         if let Some(pvd) = &mut self.pvd {
             pvd.set_wall(wall)?;
         }
         Ok(self)
+    }
+
+    /// A model of several bodies: the mesh's nodes `0..n` are the pendulum's (they turn with θ
+    /// in the pictures); the bodies after it (their triangles after the pendulum's, such as a
+    /// deformable wall) are drawn too, displaced but not turned. The default is every node.
+    pub fn with_pendulum_nodes(mut self, n: usize) -> Self {
+        self.pendulum_nodes = n.min(self.mesh.num_nodes());
+        self
     }
 
     /// Continues the frame outputs of a restarted run in `dir`: `earlier` are the `(step, time)`
@@ -272,7 +287,11 @@ impl FrameWriters {
             self.last_pvd = Some(frame.step);
         }
         if let (true, Some(kept)) = (to_kept, &mut self.kept) {
-            kept.push(KeptFrame::from_frame(&self.mesh.nodes, frame));
+            kept.push(KeptFrame::from_frame_of_bodies(
+                &self.mesh.nodes,
+                self.pendulum_nodes,
+                frame,
+            ));
             self.last_kept = Some(frame.step);
         }
         Ok(())
