@@ -463,7 +463,9 @@ fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
         .bold_line_style(RGBColor(205, 205, 205))
         .draw()?;
     draw_impacts(&mut chart, h, (lo, hi))?;
-    for (name, values, color) in series {
+    // the contact energy first, under the others: between impacts it lies on the total's zero
+    let (under, over): (Vec<_>, Vec<_>) = series.into_iter().partition(|s| s.0.starts_with("contact"));
+    for (name, values, color) in under.into_iter().chain(over) {
         chart
             .draw_series(LineSeries::new(
                 h.time.iter().copied().zip(values.iter().copied()),
