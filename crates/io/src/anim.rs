@@ -16,8 +16,10 @@
 //! over the kept frames is drawn as 5 % of the pendulum size (largest `|X|`), rounded to two
 //! significant digits; every frame states it ("elastic part × 1.2e5"). The colour scale runs from
 //! 0 to the largest value over all kept frames, so colours compare across frames; a colour bar
-//! with ticks in physical units, the time, the pivot (a red dot at the origin) and, optionally, a
-//! wall (a vertical grey line at `x = wall_x`) are drawn on every frame.
+//! with ticks in physical units, the time, the pivot (a red dot at the origin) and, optionally, the
+//! rigid wall (the half-plane `x ≤ wall_x`: a hatched light grey band from the left edge of the
+//! picture to a grey face line at `x = wall_x`, with room for it kept left of the face) are drawn on
+//! every frame.
 //!
 //! Each six-node triangle is drawn as four straight sub-triangles through its corner and mid-edge
 //! nodes, the colour interpolated linearly over each (`raster.rs`).
@@ -59,16 +61,30 @@ pub struct KeptFrame {
     pub u_abs: Vec<f32>,
     /// Von Mises stress per node \[Pa\].
     pub von_mises: Vec<f32>,
+    /// The nodes `0..rotating` (the pendulum's) turn with θ; the nodes after them (a second
+    /// body, such as a deformable wall) do not: their `elastic` is their whole displacement and
+    /// they are drawn at `X + m · u`.
+    pub rotating: usize,
 }
 
 impl KeptFrame {
     /// Extracts what the pictures need from a frame of the mesh `nodes`.
     pub fn from_frame(nodes: &[[f64; 2]], frame: &Frame<'_>) -> Self {
+        Self::from_frame_of_bodies(nodes, nodes.len(), frame)
+    }
+
+    /// [`KeptFrame::from_frame`] for a model of several bodies: only the nodes `0..rotating` (the
+    /// pendulum's) turn with θ (see [`KeptFrame::rotating`]).
+    pub fn from_frame_of_bodies(nodes: &[[f64; 2]], rotating: usize, frame: &Frame<'_>) -> Self {
         let (s, c) = frame.theta.sin_cos();
         let elastic = nodes
             .iter()
             .zip(frame.displacement)
-            .map(|(x, u)| {
+            .enumerate()
+            .map(|(i, (x, u))| {
+                if i >= rotating {
+                    return [u[0] as f32, u[1] as f32];
+                }
                 let rigid = [c * x[0] - s * x[1] - x[0], s * x[0] + c * x[1] - x[1]];
                 [(u[0] - rigid[0]) as f32, (u[1] - rigid[1]) as f32]
             })
@@ -80,6 +96,7 @@ impl KeptFrame {
             elastic,
             u_abs: frame.displacement.iter().map(|u| u[0].hypot(u[1]) as f32).collect(),
             von_mises: frame.von_mises.iter().map(|&v| v as f32).collect(),
+            rotating,
         }
     }
 
@@ -89,11 +106,14 @@ impl KeptFrame {
         nodes
             .iter()
             .zip(&self.elastic)
-            .map(|(x, e)| {
-                [
-                    c * x[0] - s * x[1] + magnification * e[0] as f64,
-                    s * x[0] + c * x[1] + magnification * e[1] as f64,
-                ]
+            .enumerate()
+            .map(|(i, (x, e))| {
+                let at = if i < self.rotating {
+                    [c * x[0] - s * x[1], s * x[0] + c * x[1]]
+                } else {
+                    *x
+                };
+                [at[0] + magnification * e[0] as f64, at[1] + magnification * e[1] as f64]
             })
             .collect()
     }
@@ -255,7 +275,9 @@ impl Scene {
             }
         }
         if let Some(w) = wall_x {
-            b[0] = b[0].min(w);
+            // room for a band of wall left of the face: 6 % of the picture's size
+            let size = (b[2] - b[0]).max(b[3] - b[1]).max(1e-9);
+            b[0] = b[0].min(w - 0.06 * size);
             b[2] = b[2].max(w);
         }
         let pad = 0.04 * (b[2] - b[0]).max(b[3] - b[1]).max(1e-9);
@@ -298,10 +320,6 @@ pub fn write_gif(path: &Path, mesh: &Mesh, frames: &[KeptFrame], field: AnimFiel
     let render = |i: usize| -> Canvas {
         let f = &frames[i];
         let mut c = template.clone();
-        if let Some(wx) = scene.wall_x {
-            let x = to_px([wx, 0.0])[0];
-            c.fill_rect(x.round() as i32 - 1, PLOT[1], x.round() as i32 + 2, PLOT[3], GREY);
-        }
         let pos: Vec<[f32; 2]> = f
             .drawn_positions(&mesh.nodes, scene.magnification)
             .into_iter()
@@ -417,6 +435,39 @@ fn delay_cs(frames: &[KeptFrame], i: usize) -> u16 {
     (dt * 100.0).round().clamp(2.0, 50.0) as u16
 }
 
+/// Palette index of the wall band's fill (a light grey).
+pub const WALL_FILL: u8 = LIGHT_GREY;
+/// Palette index of the wall band's hatching and face (a mid grey).
+pub const WALL_HATCH: u8 = GREY;
+
+/// The pixel column of the wall's face in the animation frames of `scene` (`None` without a wall).
+pub fn wall_pixel_x(scene: &Scene) -> Option<f32> {
+    scene.wall_x.map(|w| pixel_map(scene)([w, 0.0])[0])
+}
+
+/// The rigid wall, the half-plane left of the face at pixel column `face`: a light grey band from
+/// the left edge of the pendulum area to the face, hatched at 45°, with a 3 px face line.
+fn draw_wall_band(c: &mut Canvas, face: f32) {
+    let face = (face.round() as i32).clamp(PLOT[0], PLOT[2]);
+    let (x0, y0, y1) = (PLOT[0] + 1, PLOT[1] + 1, PLOT[3]);
+    if face <= x0 {
+        return;
+    }
+    c.fill_rect(x0, y0, face, y1, WALL_FILL);
+    // hatching: lines x − y = const every 10 px, clipped to the band
+    let mut k = x0 - y1;
+    while k < face - y0 {
+        for y in y0..y1 {
+            let x = k + y;
+            if (x0..face).contains(&x) {
+                c.put(x, y, WALL_HATCH);
+            }
+        }
+        k += 10;
+    }
+    c.fill_rect(face - 1, y0, face + 2, y1, WALL_HATCH);
+}
+
 /// Maps model coordinates \[m\] to pixels of the pendulum area (equal aspect, centred, y up).
 fn pixel_map(scene: &Scene) -> impl Fn([f64; 2]) -> [f32; 2] + Sync {
     let [x0, y0, x1, y1] = scene.bounds;
@@ -437,6 +488,9 @@ fn frame_template(font: &Text, field: AnimField, vmax: f64, scene: &Scene) -> Ca
         raster::two_digits(scene.magnification)
     );
     c.text(font, 13.0, &caption, (w - 8) as f32, 11.0, Anchor::TopRight);
+    if let Some(face) = wall_pixel_x(scene) {
+        draw_wall_band(&mut c, face);
+    }
     // frame around the pendulum area
     let [x0, y0, x1, y1] = PLOT.map(|v| v as f32);
     for (a, b) in [
@@ -497,7 +551,43 @@ mod tests {
             elastic: vec![],
             u_abs: vec![],
             von_mises: vec![],
+            rotating: 0,
         }
+    }
+
+    #[test]
+    fn nodes_of_a_second_body_do_not_turn_with_the_pendulum() {
+        // node 0 is the pendulum's, node 1 a wall's; both displaced by the same u
+        let nodes = [[0.0, -0.3], [-0.1, -0.3]];
+        let theta: f64 = 0.2;
+        let u = [[0.3 * theta.sin(), 0.3 - 0.3 * theta.cos()], [1e-6, 0.0]];
+        let zeros = [[0.0; 2]; 2];
+        let frame = Frame {
+            step: 1,
+            time: 0.01,
+            theta,
+            displacement: &u,
+            velocity: &zeros,
+            acceleration: &zeros,
+            von_mises: &[0.0; 2],
+            cauchy: &[[0.0; 3]; 2],
+        };
+        let f = KeptFrame::from_frame_of_bodies(&nodes, 1, &frame);
+        assert!(
+            f.elastic[0][0].abs() < 1e-7 && f.elastic[0][1].abs() < 1e-7,
+            "{:?}",
+            f.elastic[0]
+        );
+        assert_eq!(f.elastic[1], [1e-6, 0.0]);
+        let p = f.drawn_positions(&nodes, 1e4);
+        assert!(
+            (p[0][0] - u[0][0]).abs() < 1e-6 && (p[0][1] - (-0.3 + u[0][1])).abs() < 1e-6,
+            "{:?}",
+            p[0]
+        );
+        assert!((p[1][0] - (-0.1 + 1e-2)).abs() < 1e-9 && p[1][1] == -0.3, "{:?}", p[1]);
+        // one body: every node turns, as before
+        assert_eq!(KeptFrame::from_frame(&nodes, &frame).rotating, 2);
     }
 
     #[test]

@@ -45,6 +45,13 @@ pub struct History {
     pub torque: Vec<f64>,
     /// Work of the torque \[J\] (empty when the CSV has no `torque_work_J` column).
     pub torque_work: Vec<f64>,
+    /// Contact energy \[J\], part of the total (empty when the CSV has no `contact_J` column:
+    /// a run without a wall).
+    pub contact: Vec<f64>,
+    /// The impacts, `(start, end)` \[s\], from the run's `events.csv` (see
+    /// [`History::read_impacts`]); an impact still going on at the end of the run ends at the
+    /// last time.
+    pub impacts: Vec<(f64, f64)>,
 }
 
 impl History {
@@ -76,11 +83,11 @@ impl History {
             col("gravity_J")?,
             col("total_J")?,
         ];
-        let optional = [col("torque_Nm").ok(), col("torque_work_J").ok()];
+        let optional = [col("torque_Nm").ok(), col("torque_work_J").ok(), col("contact_J").ok()];
         let mut h = History::default();
         for (i, line) in lines {
             let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-            let mut v = [0.0; 8];
+            let mut v = [0.0; 9];
             let present = idx.iter().copied().map(Some).chain(optional);
             for (k, c) in present.enumerate() {
                 let Some(c) = c else { continue };
@@ -103,8 +110,26 @@ impl History {
             if optional[1].is_some() {
                 h.torque_work.push(v[7]);
             }
+            if optional[2].is_some() {
+                h.contact.push(v[8]);
+            }
         }
         Ok(h)
+    }
+
+    /// Reads the impacts from an `events.csv` (columns `time_s` and `event`, events
+    /// `impact_start` and `impact_end`) into [`History::impacts`]; an impact without its end
+    /// ends at the history's last time.
+    pub fn read_impacts(&mut self, path: &Path) -> Result<(), Error> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        self.impacts = parse_impacts(&text, self.time.last().copied().unwrap_or(0.0))
+            .map_err(|m| Error::Input(format!("{}: {m}", path.display())))?;
+        Ok(())
+    }
+
+    /// Whether the run had a wall (the CSV has the contact columns).
+    pub fn has_wall(&self) -> bool {
+        !self.contact.is_empty()
     }
 
     /// Whether a torque was applied at some time.
@@ -128,8 +153,86 @@ impl History {
         if self.has_torque() && self.torque_work.len() == self.time.len() {
             curves.push(("work of the torque", self.torque_work.clone()));
         }
+        if self.has_wall() && self.contact.len() == self.time.len() {
+            curves.push(("contact (part of the total)", self.contact.clone()));
+        }
         curves
     }
+}
+
+/// The `(start, end)` of every impact in `events.csv` text; `end_time` closes an open one.
+fn parse_impacts(text: &str, end_time: f64) -> Result<Vec<(f64, f64)>, String> {
+    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
+    let (_, header) = lines.next().ok_or("empty file, expected a header line")?;
+    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let col = |name: &str| {
+        names
+            .iter()
+            .position(|n| *n == name)
+            .ok_or_else(|| format!("line 1: no column `{name}` in the header"))
+    };
+    let (t, e) = (col("time_s")?, col("event")?);
+    let mut spans = Vec::new();
+    let mut open = None;
+    for (i, line) in lines {
+        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+        let (Some(time), Some(event)) = (cells.get(t), cells.get(e)) else {
+            return Err(format!("line {}: {} cells", i + 1, cells.len()));
+        };
+        let time: f64 = time
+            .parse()
+            .map_err(|_| format!("line {}: `{time}` is not a time", i + 1))?;
+        match *event {
+            "impact_start" => open = Some(time),
+            "impact_end" => spans.push((open.take().unwrap_or(time), time)),
+            _ => {}
+        }
+    }
+    if let Some(start) = open {
+        spans.push((start, end_time.max(start)));
+    }
+    Ok(spans)
+}
+
+/// Colour of the impact marks in the plots.
+pub const IMPACT_RGB: (u8, u8, u8) = (148, 103, 189);
+
+/// Draws the impacts of `h` on `chart` (a shaded span from start to end and a line at the start,
+/// over `lo..hi`) with one legend entry.
+fn draw_impacts<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        '_,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    h: &History,
+    (lo, hi): (f64, f64),
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    if h.impacts.is_empty() {
+        return Ok(());
+    }
+    let colour = RGBColor(IMPACT_RGB.0, IMPACT_RGB.1, IMPACT_RGB.2);
+    chart.draw_series(
+        h.impacts
+            .iter()
+            .map(|&(s, e)| Rectangle::new([(s, lo), (e, hi)], colour.mix(0.25).filled())),
+    )?;
+    let n = h.impacts.len();
+    chart
+        .draw_series(
+            h.impacts
+                .iter()
+                .map(|&(s, _)| PathElement::new(vec![(s, lo), (s, hi)], colour.stroke_width(2))),
+        )?
+        .label(format!(
+            "impact{} ({n}, start to end, from events.csv)",
+            if n == 1 { "" } else { "s" }
+        ))
+        .legend(move |(x, y)| Rectangle::new([(x + 9, y - 6), (x + 15, y + 6)], colour.filled()));
+    Ok(())
 }
 
 const THETA_SIZE: (u32, u32) = (1000, 600);
@@ -255,6 +358,7 @@ fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
         .light_line_style(RGBColor(235, 235, 235))
         .bold_line_style(RGBColor(205, 205, 205))
         .draw()?;
+    draw_impacts(&mut chart, h, (lo, hi))?;
     let blue = RGBColor(31, 119, 180);
     let points: Vec<(f64, f64)> = h.time.iter().copied().zip(deg.iter().copied()).collect();
     chart
@@ -333,6 +437,7 @@ fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
         RGBColor(44, 160, 44),
         BLACK,
         RGBColor(214, 39, 40),
+        RGBColor(140, 86, 75),
     ];
     let series: Vec<(&str, &[f64], RGBColor)> = curves
         .iter()
@@ -357,7 +462,10 @@ fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
         .light_line_style(RGBColor(235, 235, 235))
         .bold_line_style(RGBColor(205, 205, 205))
         .draw()?;
-    for (name, values, color) in series {
+    draw_impacts(&mut chart, h, (lo, hi))?;
+    // the contact energy first, under the others: between impacts it lies on the total's zero
+    let (under, over): (Vec<_>, Vec<_>) = series.into_iter().partition(|s| s.0.starts_with("contact"));
+    for (name, values, color) in under.into_iter().chain(over) {
         chart
             .draw_series(LineSeries::new(
                 h.time.iter().copied().zip(values.iter().copied()),

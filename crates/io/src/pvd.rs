@@ -13,6 +13,13 @@
 //! far finer than the error of the nodal stress recovery; the kinematic fields need Float64 (the
 //! elastic part of the displacement is 1e-8 of the rigid part for steel).
 //!
+//! **With a wall** ([`PvdWriter::set_wall`]) every frame also has the point field
+//! `contact_pressure_Pa` (`k · max(−gap, 0)` on the head's contact boundary, 0 elsewhere), and the
+//! wall is a second block: `wall.vtu` (one quad over the wall's block, cell field `wall`, field
+//! data `face_x`) is listed as `part="1"` of every time step, so ParaView's PVD reader shows each
+//! time step as a multiblock of the bodies' mesh (part 0) and the rigid wall (part 1). Without a
+//! wall the files are as before.
+//!
 //! The `.pvd` is rewritten atomically after every frame (it is a few dozen bytes per entry), so it
 //! is valid and lists exactly the frames on disk whenever the run stops. Step numbers in file names
 //! have at least five digits (`step_00042.vtu`).
@@ -20,6 +27,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use super::writers::WallOutput;
 use super::{vtu, Field, FieldData, Frame};
 use crate::{Error, Mesh};
 
@@ -35,6 +43,9 @@ pub struct PvdWriter {
     /// `(time, relative file name)` of every frame written.
     entries: Vec<(f64, String)>,
     written: Vec<PathBuf>,
+    /// The rigid wall, when the run has one: `wall.vtu` is listed as part 1 of every time step
+    /// and the frames carry `contact_pressure_Pa`.
+    wall: Option<WallOutput>,
 }
 
 impl PvdWriter {
@@ -46,6 +57,7 @@ impl PvdWriter {
             dir: dir.to_path_buf(),
             entries: Vec::new(),
             written: Vec::new(),
+            wall: None,
         };
         w.write_pvd()?;
         Ok(w)
@@ -60,9 +72,26 @@ impl PvdWriter {
             dir: dir.to_path_buf(),
             written: entries.iter().map(|(_, rel)| dir.join(rel)).collect(),
             entries,
+            wall: None,
         };
         w.write_pvd()?;
         Ok(w)
+    }
+
+    /// Adds the wall: a rigid one (see [`WallOutput::rigid`]) writes `wall.vtu` (the block [`WallOutput::extent`] as one quad),
+    /// lists it as part 1 of every time step of the `.pvd` (ParaView shows the two parts as the
+    /// blocks of a multiblock data set), and gives every frame the point field
+    /// `contact_pressure_Pa` (see [`WallOutput::pressure`]).
+    pub fn set_wall(&mut self, wall: WallOutput) -> Result<(), Error> {
+        if wall.rigid {
+            let path = self.dir.join(WALL_VTU);
+            write_wall_vtu(&path, &wall)?;
+            if !self.written.contains(&path) {
+                self.written.push(path);
+            }
+        }
+        self.wall = Some(wall);
+        self.write_pvd()
     }
 
     /// Path of the collection file.
@@ -74,7 +103,17 @@ impl PvdWriter {
     pub fn write_frame(&mut self, mesh: &Mesh, frame: &Frame<'_>) -> Result<(), Error> {
         let rel = format!("{FRAMES_DIR}/step_{:05}.vtu", frame.step);
         let path = self.dir.join(&rel);
-        write_frame_vtu(&path, mesh, frame)?;
+        match &self.wall {
+            Some(wall) => {
+                let pressure = wall.pressure(mesh, frame.displacement);
+                let extra = [Field {
+                    name: arrays::CONTACT_PRESSURE,
+                    data: FieldData::Scalar(&pressure),
+                }];
+                write_frame_vtu_with(&path, mesh, frame, &extra)?;
+            }
+            None => write_frame_vtu(&path, mesh, frame)?,
+        }
         self.entries.push((frame.time, rel));
         self.written.push(path);
         self.write_pvd()
@@ -94,7 +133,8 @@ impl PvdWriter {
     }
 
     fn write_pvd(&self) -> Result<(), Error> {
-        vtu::write_atomically(&self.pvd_path(), |w| write_pvd_to(w, &self.entries))
+        let wall = self.wall.as_ref().filter(|w| w.rigid).map(|_| WALL_VTU);
+        vtu::write_atomically(&self.pvd_path(), |w| write_pvd_to(w, &self.entries, wall))
     }
 }
 
@@ -110,6 +150,8 @@ pub mod arrays {
     pub const VON_MISES: &str = "von_mises_Pa";
     /// Cauchy stress \[Pa\].
     pub const CAUCHY: &str = "cauchy_stress_Pa";
+    /// Contact pressure on the head's boundary \[Pa\] (runs with a wall).
+    pub const CONTACT_PRESSURE: &str = "contact_pressure_Pa";
     /// Prefix of the cell flags of the named boundaries (`boundary_rotation`, …).
     pub const BOUNDARY_PREFIX: &str = "boundary_";
 }
@@ -126,6 +168,11 @@ pub fn estimated_frame_bytes(mesh: &Mesh) -> u64 {
 /// nodal fields, one cell flag per boundary name, and `TimeValue`, `theta_rad` and `step` as field
 /// data.
 pub fn write_frame_vtu(path: &Path, mesh: &Mesh, frame: &Frame<'_>) -> Result<(), Error> {
+    write_frame_vtu_with(path, mesh, frame, &[])
+}
+
+/// [`write_frame_vtu`] with further point fields after the frame's own.
+pub fn write_frame_vtu_with(path: &Path, mesh: &Mesh, frame: &Frame<'_>, extra: &[Field<'_>]) -> Result<(), Error> {
     let triangles: Vec<usize> = mesh.triangles.iter().flatten().copied().collect();
     let edges: Vec<usize> = mesh.boundary_edges.iter().flat_map(|e| e.nodes).collect();
     let cells = [
@@ -156,7 +203,7 @@ pub fn write_frame_vtu(path: &Path, mesh: &Mesh, frame: &Frame<'_>) -> Result<()
             data: FieldData::Label(values),
         })
         .collect();
-    let point_data = [
+    let mut point_data = vec![
         Field {
             name: arrays::DISPLACEMENT,
             data: FieldData::Vector(frame.displacement),
@@ -178,6 +225,10 @@ pub fn write_frame_vtu(path: &Path, mesh: &Mesh, frame: &Frame<'_>) -> Result<()
             data: FieldData::Tensor32(frame.cauchy),
         },
     ];
+    point_data.extend(extra.iter().map(|f| Field {
+        name: f.name,
+        data: f.data,
+    }));
     vtu::write_vtu(
         path,
         &vtu::Grid {
@@ -194,7 +245,36 @@ pub fn write_frame_vtu(path: &Path, mesh: &Mesh, frame: &Frame<'_>) -> Result<()
     )
 }
 
-fn write_pvd_to(w: &mut dyn Write, entries: &[(f64, String)]) -> std::io::Result<()> {
+/// File name of the rigid wall's block, next to the `.pvd`.
+pub const WALL_VTU: &str = "wall.vtu";
+
+/// Writes the wall's block: one quad over [`WallOutput::extent`], with the cell field `wall` = 1.
+fn write_wall_vtu(path: &Path, wall: &WallOutput) -> Result<(), Error> {
+    let [x0, y0, x1, y1] = wall.extent;
+    let points = [[x0, y0], [x1, y0], [x1, y1], [x0, y1]];
+    let quad = [0, 1, 2, 3];
+    let cells = [vtu::Cells {
+        connectivity: &quad,
+        nodes_per_cell: 4,
+        vtk_type: vtu::VTK_QUAD,
+    }];
+    let one = [1u8];
+    vtu::write_vtu(
+        path,
+        &vtu::Grid {
+            points: &points,
+            cells: &cells,
+            point_data: &[],
+            cell_data: &[Field {
+                name: "wall",
+                data: FieldData::Label(&one),
+            }],
+            field_data: &[("face_x", wall.face_x)],
+        },
+    )
+}
+
+fn write_pvd_to(w: &mut dyn Write, entries: &[(f64, String)], wall: Option<&str>) -> std::io::Result<()> {
     writeln!(w, r#"<?xml version="1.0"?>"#)?;
     writeln!(
         w,
@@ -204,6 +284,9 @@ fn write_pvd_to(w: &mut dyn Write, entries: &[(f64, String)]) -> std::io::Result
     for (t, file) in entries {
         // `{:?}` of f64 is the shortest string that reads back to the same value.
         writeln!(w, r#"<DataSet timestep="{t:?}" group="" part="0" file="{file}"/>"#)?;
+        if let Some(wall) = wall {
+            writeln!(w, r#"<DataSet timestep="{t:?}" group="" part="1" file="{wall}"/>"#)?;
+        }
     }
     writeln!(w, "</Collection>")?;
     writeln!(w, "</VTKFile>")

@@ -442,20 +442,29 @@ fn run_steps(
             eprintln!("{warning}");
         }
     }
+    // the wall (when there is one) is drawn in the pictures and is a block of the ParaView output
+    let wall = crate::writers::WallOutput::of(cfg, &sim.model.mesh);
+    let wall_x = wall.as_ref().filter(|w| w.rigid).map(|w| w.face_x);
+    // a second body (a deformable wall) is drawn displaced, not turned with the pendulum
+    let pendulum_nodes = sim.model.bodies[0].nodes.end;
+    let with_wall = |w: FrameWriters| match &wall {
+        Some(wall) => w.with_pendulum_nodes(pendulum_nodes).with_wall(wall.clone()),
+        None => Ok(w.with_pendulum_nodes(pendulum_nodes)),
+    };
     let mut writers = match (frames, opts.restart) {
-        (true, false) => Some(FrameWriter::start(FrameWriters::new(
+        (true, false) => Some(FrameWriter::start(with_wall(FrameWriters::new(
             &out_dir,
             &sim.model.mesh,
             o,
-            None,
-        )?)),
-        (true, true) => Some(FrameWriter::start(FrameWriters::resume(
+            wall_x,
+        )?)?)),
+        (true, true) => Some(FrameWriter::start(with_wall(FrameWriters::resume(
             &out_dir,
             &sim.model.mesh,
             o,
-            None,
+            wall_x,
             &earlier_times,
-        )?)),
+        )?)?)),
         (false, _) => None,
     };
     let mode = if opts.quiet {

@@ -24,6 +24,9 @@
 //!   node, value `= q / 65535 · fields[k].max`. This keeps the file about 11 bytes per node and frame.
 //! - `theta_curve`: `{t, theta_deg}` from `results.csv` when present (at most 2000 points), else
 //!   from the kept frames; `theta_max_deg` for the dashed ±θ_max lines.
+//! - with a wall only: `wall` `{kind, face_x}` and `impacts` `[[start, end], …]` \[s\] (from
+//!   `events.csv`). The page draws the wall as a hatched band left of `wall_x` and the impacts as
+//!   shaded spans with a line at each start in the θ plot.
 //!
 //! Loading the page with `#selftest` appended runs a check in the page itself: it hashes the
 //! canvases, moves the slider and switches the field, and writes the verdict (`SELFTEST PASS` or
@@ -150,6 +153,15 @@ pub fn viewer_html(mesh: &Mesh, frames: &[KeptFrame], scene: &Scene, history: Op
         "theta_curve": {"t": curve_t, "theta_deg": curve_theta},
         "theta_max_deg": theta_max,
     });
+    let mut data = data;
+    // with a wall: its face (drawn as a band, see `wall_x`) and the impacts for the θ plot
+    if let (Some(x), Some(obj)) = (scene.wall_x, data.as_object_mut()) {
+        let impacts: Vec<[f64; 2]> = history
+            .map(|h| h.impacts.iter().map(|&(a, b)| [a, b]).collect())
+            .unwrap_or_default();
+        obj.insert("wall".into(), json!({"kind": "half-plane x <= face_x", "face_x": x}));
+        obj.insert("impacts".into(), json!(impacts));
+    }
     // `</` must not appear inside a <script> element.
     let text = data.to_string().replace("</", "<\\/");
     TEMPLATE.replacen("/*DATA*/", &text, 1)

@@ -37,6 +37,8 @@ use crate::{Error, Mesh};
 
 /// VTK cell type of the quadratic triangle.
 pub const VTK_QUADRATIC_TRIANGLE: u8 = 22;
+/// VTK cell type of the (linear) quadrilateral.
+pub const VTK_QUAD: u8 = 9;
 /// VTK cell type of the quadratic edge.
 pub const VTK_QUADRATIC_EDGE: u8 = 21;
 /// Uncompressed bytes per compressed block (VTK's default block size).

@@ -15,6 +15,10 @@
 //! | `viewer`    | `viewer.html`                                      | in `finish`        |
 //! | `plots`     | `theta.png`, `energy.png` (from `results.csv`)     | in `finish`        |
 //!
+//! With a wall ([`FrameWriters::with_wall`]) the ParaView frames carry the contact pressure and
+//! the rigid wall is a block of its own (`wall.vtu`), the animations and the viewer draw the wall
+//! (a hatched band left of its face), and the plots mark the impacts listed in `events.csv`.
+//!
 //! Call `finish` after `results.csv` is complete and flushed (the plots read it back). A flag that
 //! is off means its files are not written at all. The animations and the viewer share
 //! one bounded set of kept frames ([`KeptFrames`], at most `output.max_frames`), so memory does not
@@ -50,6 +54,8 @@ use crate::{Error, Mesh};
 pub mod names {
     /// The solver's time history (read by the plots).
     pub const RESULTS_CSV: &str = "results.csv";
+    /// The contact events of a run with a wall (read by the plots for the impact marks).
+    pub const EVENTS_CSV: &str = "events.csv";
     /// θ(t) plot.
     pub const THETA_PNG: &str = "theta.png";
     /// Energy plot.
@@ -60,6 +66,59 @@ pub mod names {
     pub const VON_MISES_GIF: &str = "von_mises.gif";
     /// The HTML viewer.
     pub const VIEWER_HTML: &str = "viewer.html";
+}
+
+/// The wall of a run (`wall.kind` other than `"none"`) as the outputs draw it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WallOutput {
+    /// `x` of the contact face \[m\]; the wall is `x ≤ face_x`.
+    pub face_x: f64,
+    /// Penalty stiffness `k` \[N/m³\] (`contact.stiffness`): the contact pressure is
+    /// `k · max(−gap, 0)`.
+    pub stiffness: f64,
+    /// The nodes of the head's contact boundary (model numbering), sorted.
+    pub contact_nodes: Vec<usize>,
+    /// The block drawn for the rigid wall in ParaView, `[xmin, ymin, xmax, ymax]` \[m\]
+    /// (`wall.width` to the left of the face, `wall.height` about `wall.center_y`).
+    pub extent: [f64; 4],
+    /// Whether the wall is rigid (`wall.kind = "rigid"`): only a rigid wall gets a block of its
+    /// own in ParaView; a deformable one is a body of the mesh.
+    pub rigid: bool,
+}
+
+impl WallOutput {
+    /// The wall of `cfg` over the model mesh `mesh` (pendulum first); `None` without a wall.
+    pub fn of(cfg: &crate::Config, mesh: &Mesh) -> Option<Self> {
+        let w = &cfg.wall;
+        if w.kind == crate::config::WallKind::None {
+            return None;
+        }
+        Some(Self {
+            face_x: w.x,
+            stiffness: cfg.contact.stiffness,
+            contact_nodes: mesh.nodes_on(crate::simulation::CONTACT_BOUNDARY),
+            extent: [
+                w.x - w.width,
+                w.center_y - 0.5 * w.height,
+                w.x,
+                w.center_y + 0.5 * w.height,
+            ],
+            rigid: w.kind == crate::config::WallKind::Rigid,
+        })
+    }
+
+    /// The contact pressure per node \[Pa\]: `k · max(−gap, 0)` at the contact nodes, with the
+    /// gap `x + u_x − face_x` of the displaced node; 0 at every other node.
+    pub fn pressure(&self, mesh: &Mesh, displacement: &[[f64; 2]]) -> Vec<f64> {
+        let mut p = vec![0.0; mesh.num_nodes()];
+        for &n in &self.contact_nodes {
+            if let (Some(x), Some(u)) = (mesh.nodes.get(n), displacement.get(n)) {
+                let gap = x[0] + u[0] - self.face_x;
+                p[n] = self.stiffness * (-gap).max(0.0);
+            }
+        }
+        p
+    }
 }
 
 /// Which steps the frame writers take: `Some(stride)` per output that is on.
@@ -92,6 +151,9 @@ pub struct FrameWriters {
     wall_x: Option<f64>,
     pvd: Option<PvdWriter>,
     kept: Option<KeptFrames>,
+    /// The pendulum's nodes, `0..pendulum_nodes`, turn with θ in the pictures; the nodes of the
+    /// bodies after it (a deformable wall) do not.
+    pendulum_nodes: usize,
     /// The last step written to ParaView and offered to the kept frames.
     last_pvd: Option<usize>,
     last_kept: Option<usize>,
@@ -113,11 +175,34 @@ impl FrameWriters {
             mesh: mesh.clone(),
             output: output.clone(),
             wall_x,
+            pendulum_nodes: mesh.num_nodes(),
             pvd,
             kept,
             last_pvd: None,
             last_kept: None,
         })
+    }
+
+    /// Adds the wall: the ParaView frames get the contact pressure and a rigid wall's block (see
+    /// [`PvdWriter::set_wall`]); the pictures draw a rigid wall at its face (as `wall_x` of
+    /// [`FrameWriters::new`] does; a deformable wall is a body of the mesh and drawn as such, see
+    /// [`FrameWriters::with_pendulum_nodes`]); the plots mark the impacts of `events.csv`.
+    pub fn with_wall(mut self, wall: WallOutput) -> Result<Self, Error> {
+        if wall.rigid {
+            self.wall_x = Some(wall.face_x);
+        }
+        if let Some(pvd) = &mut self.pvd {
+            pvd.set_wall(wall)?;
+        }
+        Ok(self)
+    }
+
+    /// A model of several bodies: the mesh's nodes `0..n` are the pendulum's (they turn with θ
+    /// in the pictures); the bodies after it (their triangles after the pendulum's, such as a
+    /// deformable wall) are drawn too, displaced but not turned. The default is every node.
+    pub fn with_pendulum_nodes(mut self, n: usize) -> Self {
+        self.pendulum_nodes = n.min(self.mesh.num_nodes());
+        self
     }
 
     /// Continues the frame outputs of a restarted run in `dir`: `earlier` are the `(step, time)`
@@ -202,7 +287,11 @@ impl FrameWriters {
             self.last_pvd = Some(frame.step);
         }
         if let (true, Some(kept)) = (to_kept, &mut self.kept) {
-            kept.push(KeptFrame::from_frame(&self.mesh.nodes, frame));
+            kept.push(KeptFrame::from_frame_of_bodies(
+                &self.mesh.nodes,
+                self.pendulum_nodes,
+                frame,
+            ));
             self.last_kept = Some(frame.step);
         }
         Ok(())
@@ -213,7 +302,16 @@ impl FrameWriters {
     pub fn finish(self) -> Result<Vec<PathBuf>, Error> {
         let mut paths = self.pvd.map(PvdWriter::into_paths).unwrap_or_default();
         let csv = self.dir.join(names::RESULTS_CSV);
-        let history = (self.output.plots || self.output.viewer).then(|| History::read_csv(&csv));
+        let events = self.dir.join(names::EVENTS_CSV);
+        // a run with a wall (contact columns in results.csv) marks its impacts from events.csv
+        let history = (self.output.plots || self.output.viewer).then(|| {
+            History::read_csv(&csv).and_then(|mut h| {
+                if h.has_wall() && events.is_file() {
+                    h.read_impacts(&events)?;
+                }
+                Ok(h)
+            })
+        });
         let frames = self.kept.map(KeptFrames::into_frames).unwrap_or_default();
         if !frames.is_empty() {
             let scene = Scene::new(&self.mesh.nodes, &frames, self.output.magnification, self.wall_x);

@@ -1,0 +1,458 @@
+//! The outputs of a run with a rigid wall (issue 10): the plots mark the impacts, the animations
+//! and the viewer draw the wall, the ParaView frames carry the contact pressure and the wall is a
+//! block of its own; a run without a wall writes none of it.
+
+#[path = "common/plate.rs"]
+mod plate;
+#[path = "common/tools.rs"]
+mod tools;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+use pendulum_fem::commands::run::{run as run_job, RunOptions};
+use pendulum_fem::config::WallKind;
+use pendulum_fem::io::anim::{WALL_FILL, WALL_HATCH};
+use pendulum_fem::io::plot::{History, IMPACT_RGB};
+use pendulum_fem::Config;
+use plate::temp_dir;
+
+/// A run of `end` seconds into a fresh folder, with or without the rigid wall.
+fn run_case(name: &str, wall: bool, end: f64) -> PathBuf {
+    let dir = temp_dir(name);
+    let mut config = Config::default();
+    if wall {
+        config.wall.kind = WallKind::Rigid;
+    }
+    config.time.end = end;
+    let opts = RunOptions {
+        config,
+        out: Some(dir.clone()),
+        force: true,
+        quiet: true,
+        ..Default::default()
+    };
+    run_job(&opts).unwrap();
+    dir
+}
+
+/// The wall run shared by the tests: three impacts (about 0.240, 0.721 and 1.202 s).
+fn wall_run() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| run_case("wall-run", true, 1.25))
+}
+
+/// A run without a wall over the same time.
+fn plain_run() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| run_case("plain-run", false, 1.25))
+}
+
+/// The `(start, end)` of the impacts in the run's `events.csv`.
+fn impacts(dir: &Path) -> Vec<(f64, f64)> {
+    let mut h = History::read_csv(&dir.join("results.csv")).unwrap();
+    h.read_impacts(&dir.join("events.csv")).unwrap();
+    h.impacts
+}
+
+/// Width, height and RGB pixels of a PNG.
+fn png_rgb(path: &Path) -> (usize, usize, Vec<[u8; 3]>) {
+    let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = dec.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let channels = info.color_type.samples();
+    let px = buf[..info.buffer_size()]
+        .chunks(channels)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
+    (info.width as usize, info.height as usize, px)
+}
+
+/// The columns holding at least `min` pixels of `rgb`, grouped into runs of adjacent columns:
+/// the centre of each run.
+fn column_groups(path: &Path, rgb: (u8, u8, u8), min: usize) -> Vec<f64> {
+    let (w, h, px) = png_rgb(path);
+    let target = [rgb.0, rgb.1, rgb.2];
+    let columns: Vec<usize> = (0..w)
+        .filter(|&x| (0..h).filter(|&y| px[y * w + x] == target).count() >= min)
+        .collect();
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for x in columns {
+        match groups.last_mut() {
+            Some(g) if x - *g.last().unwrap() <= 1 => g.push(x),
+            _ => groups.push(vec![x]),
+        }
+    }
+    groups
+        .iter()
+        .map(|g| g.iter().sum::<usize>() as f64 / g.len() as f64)
+        .collect()
+}
+
+#[test]
+fn theta_png_marks_each_impact_of_events_csv_at_its_time() {
+    let dir = wall_run();
+    let spans = impacts(dir);
+    assert_eq!(spans.len(), 3, "{spans:?}");
+    // the marks are vertical lines over the whole plot (hundreds of pixels of the mark colour)
+    let xs = column_groups(&dir.join("theta.png"), IMPACT_RGB, 200);
+    assert_eq!(xs.len(), 3, "mark columns {xs:?}");
+    // x is linear in t: the middle mark sits where the middle impact starts
+    let (t, x) = ([spans[0].0, spans[1].0, spans[2].0], xs);
+    let expected = (t[1] - t[0]) / (t[2] - t[0]);
+    let drawn = (x[1] - x[0]) / (x[2] - x[0]);
+    assert!((drawn - expected).abs() < 0.01, "marks at {x:?} for impacts at {t:?}");
+    // and the time axis they give runs from t = 0 at the plot's left edge to time.end at its right
+    let b = (x[2] - x[0]) / (t[2] - t[0]);
+    let a = x[0] - b * t[0];
+    assert!(
+        (50.0..150.0).contains(&a) && (900.0..1000.0).contains(&(a + 1.25 * b)),
+        "{x:?}: {a} + {b} t"
+    );
+    // the energy plot marks them too
+    let ys = column_groups(&dir.join("energy.png"), IMPACT_RGB, 200);
+    assert_eq!(ys.len(), 3, "energy.png mark columns {ys:?}");
+}
+
+#[test]
+fn plots_without_a_wall_have_no_impact_marks_and_no_contact_curve() {
+    let dir = plain_run();
+    assert!(!dir.join("events.csv").exists());
+    for name in ["theta.png", "energy.png"] {
+        let (_, _, px) = png_rgb(&dir.join(name));
+        let target = [IMPACT_RGB.0, IMPACT_RGB.1, IMPACT_RGB.2];
+        assert_eq!(px.iter().filter(|p| **p == target).count(), 0, "{name}");
+    }
+    let h = History::read_csv(&dir.join("results.csv")).unwrap();
+    assert!(!h.has_wall());
+    assert_eq!(h.energy_curves().len(), 3);
+}
+
+#[test]
+fn energy_plot_of_a_wall_run_has_the_contact_energy_rising_during_each_impact() {
+    let dir = wall_run();
+    let mut h = History::read_csv(&dir.join("results.csv")).unwrap();
+    h.read_impacts(&dir.join("events.csv")).unwrap();
+    assert!(h.has_wall());
+    let curves = h.energy_curves();
+    let (name, contact) = curves.last().unwrap();
+    assert_eq!(*name, "contact (part of the total)");
+    for (i, (&t, &e)) in h.time.iter().zip(contact).enumerate() {
+        let inside = h.impacts.iter().any(|&(a, b)| (a..=b).contains(&t));
+        assert_eq!(e > 0.0, inside, "row {i}: t = {t}, contact energy {e}");
+    }
+    assert!(
+        contact.iter().any(|&e| e > 1e-3),
+        "the contact energy shows on the plot's scale"
+    );
+}
+
+/// The frames of a GIF, composed (each frame drawn over the one before), as palette indices.
+fn gif_frames(path: &Path) -> (usize, usize, Vec<Vec<u8>>) {
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::Indexed);
+    let mut dec = opts.read_info(std::fs::File::open(path).unwrap()).unwrap();
+    let (w, h) = (dec.width() as usize, dec.height() as usize);
+    let mut canvas = vec![0u8; w * h];
+    let mut frames = Vec::new();
+    while let Some(f) = dec.read_next_frame().unwrap() {
+        let (l, t, fw) = (f.left as usize, f.top as usize, f.width as usize);
+        for (k, &p) in f.buffer.iter().enumerate() {
+            canvas[(t + k / fw) * w + l + k % fw] = p;
+        }
+        frames.push(canvas.clone());
+    }
+    (w, h, frames)
+}
+
+/// Writes palette-index pixels as an RGB PNG with the GIF's own palette (to look at a frame).
+fn save_frame(path: &Path, gif_path: &Path, w: usize, h: usize, px: &[u8]) {
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::Indexed);
+    let dec = opts.read_info(std::fs::File::open(gif_path).unwrap()).unwrap();
+    let palette = dec.global_palette().unwrap().to_vec();
+    let rgb: Vec<u8> = px
+        .iter()
+        .flat_map(|&i| palette[3 * i as usize..3 * i as usize + 3].to_vec())
+        .collect();
+    let mut enc = png::Encoder::new(std::fs::File::create(path).unwrap(), w as u32, h as u32);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.write_header().unwrap().write_image_data(&rgb).unwrap();
+}
+
+/// The columns (in rows 70 to 580 of the picture area) entirely of the wall's colours.
+fn wall_columns(w: usize, px: &[u8]) -> Vec<usize> {
+    (0..w)
+        .filter(|&x| (70..580).all(|y| [WALL_FILL, WALL_HATCH].contains(&px[y * w + x])))
+        .collect()
+}
+
+#[test]
+fn gif_frames_draw_the_wall_as_a_hatched_band_left_of_the_face_that_the_head_reaches() {
+    let dir = wall_run();
+    for name in ["displacement.gif", "von_mises.gif"] {
+        let path = dir.join(name);
+        let (w, h, frames) = gif_frames(&path);
+        assert_eq!(frames.len(), 126, "{name}");
+        if let Some(out) = std::env::var_os("WALL_FRAME_PNG") {
+            for i in [0, 24] {
+                save_frame(
+                    &Path::new(&out).join(format!("{name}.frame{i}.png")),
+                    &path,
+                    w,
+                    h,
+                    &frames[i],
+                );
+            }
+        }
+        for (i, px) in frames.iter().enumerate() {
+            let band = wall_columns(w, px);
+            // from the left edge of the picture area (x = 12) to the face, about 30 px wide
+            assert!(band.len() >= 15, "{name} frame {i}: wall columns {band:?}");
+            assert_eq!(
+                band[0], 13,
+                "{name} frame {i}: the band starts at the picture area's edge"
+            );
+            assert!(band.windows(2).all(|c| c[1] == c[0] + 1), "{name} frame {i}: one band");
+            // hatched: both colours
+            let left: Vec<u8> = (70..580)
+                .flat_map(|y| px[y * w + 13..y * w + band[band.len() - 1]].to_vec())
+                .collect();
+            assert!(
+                left.contains(&WALL_FILL) && left.contains(&WALL_HATCH),
+                "{name} frame {i}"
+            );
+        }
+        // the head (colour-map pixels, indices below 200) comes up to the face at the impact
+        // (t = 0.24 s, frame 24) and is far from it at the release (frame 0); within 12 px, as the
+        // magnified elastic part draws the compressed head a few pixels off the face
+
+        let face = *wall_columns(w, &frames[0]).last().unwrap();
+        let nearest = |px: &[u8]| {
+            (70..580)
+                .flat_map(|y| (face + 1..w).filter(move |&x| px[y * w + x] < 200))
+                .min()
+                .unwrap()
+        };
+        assert!(
+            nearest(&frames[24]) <= face + 12,
+            "{name}: head at {} px, face at {face}",
+            nearest(&frames[24])
+        );
+        assert!(
+            nearest(&frames[0]) > face + 60,
+            "{name}: head at {} px at the release",
+            nearest(&frames[0])
+        );
+        if let Some(out) = std::env::var_os("WALL_FRAME_PNG") {
+            save_frame(
+                &Path::new(&out).join(format!("{name}.frame24.png")),
+                &path,
+                w,
+                h,
+                &frames[24],
+            );
+        }
+    }
+    // no wall: no band
+    let (w, _, frames) = gif_frames(&plain_run().join("displacement.gif"));
+    assert!(frames.iter().all(|px| wall_columns(w, px).is_empty()));
+}
+
+/// `contact_pressure_Pa` (maximum), time and the point field names of each frame, read with meshio.
+fn meshio_pressures(files: &[PathBuf]) -> Vec<(f64, f64, Vec<String>)> {
+    let script = r#"
+import sys, json, meshio, numpy as np
+for path in sys.argv[1:]:
+    m = meshio.read(path)
+    p = m.point_data.get("contact_pressure_Pa")
+    print(json.dumps([float(p.max()) if p is not None else -1.0, float(np.ravel(m.field_data["TimeValue"])[0]), sorted(m.point_data)]))
+"#;
+    let out = Command::new("python3")
+        .args(["-c", script])
+        .args(files)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "meshio failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
+fn frame_files(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn vtu_contact_pressure_is_non_zero_exactly_in_the_frames_inside_an_impact() {
+    if !tools::tool_or_skip(
+        "vtu_contact_pressure_is_non_zero_exactly_in_the_frames_inside_an_impact",
+        tools::python_module("meshio"),
+        "python3 with meshio",
+        "pip install meshio",
+    ) {
+        return;
+    }
+    let dir = wall_run();
+    let spans = impacts(dir);
+    let frames = meshio_pressures(&frame_files(dir));
+    assert_eq!(frames.len(), 126);
+    let mut in_contact = 0;
+    for (p, t, _) in &frames {
+        let inside = spans.iter().any(|&(a, b)| (a..=b).contains(t));
+        // k · max(−gap, 0): 2e10 N/m³ × up to 0.4 mm, a few MPa
+        assert_eq!(*p > 0.0, inside, "t = {t}: pressure {p} Pa");
+        assert!(*p >= 0.0 && *p < 2e10 * 1e-3, "t = {t}: {p} Pa");
+        in_contact += usize::from(inside);
+    }
+    assert_eq!(
+        in_contact, 1,
+        "the frame at 0.24 s lies inside the first impact (0.2395 to 0.2417 s)"
+    );
+    // the wall is a second block of every time step: wall.vtu, a quad whose right edge is the face
+    let pvd = std::fs::read_to_string(dir.join("pendulum.pvd")).unwrap();
+    assert_eq!(pvd.matches(r#"part="1" file="wall.vtu""#).count(), 126);
+    assert_eq!(pvd.matches(r#"part="0" file="frames/"#).count(), 126);
+    let script = r#"
+import meshio, sys
+m = meshio.read(sys.argv[1])
+print(m.cells[0].type, m.points[:, 0].min(), m.points[:, 0].max())
+"#;
+    let out = Command::new("python3")
+        .args(["-c", script])
+        .arg(dir.join("wall.vtu"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    let words: Vec<&str> = text.split_whitespace().collect();
+    assert_eq!(words[0], "quad", "{text}");
+    assert_eq!(words[2].parse::<f64>().unwrap(), -0.06, "{text}");
+    assert!(words[1].parse::<f64>().unwrap() < -0.06, "{text}");
+    // without a wall: no pressure field, no wall block
+    let plain = plain_run();
+    let frames = meshio_pressures(&frame_files(plain)[..3]);
+    assert!(frames
+        .iter()
+        .all(|(p, _, names)| *p == -1.0 && !names.iter().any(|n| n.contains("contact"))));
+    assert!(!plain.join("wall.vtu").exists());
+    assert!(!std::fs::read_to_string(plain.join("pendulum.pvd"))
+        .unwrap()
+        .contains("part=\"1\""));
+}
+
+/// The JSON embedded in a viewer page.
+fn embedded_json(html: &str) -> serde_json::Value {
+    let start = html.find(r#"type="application/json">"#).unwrap() + r#"type="application/json">"#.len();
+    let end = start + html[start..].find("</script>").unwrap();
+    serde_json::from_str(&html[start..end].replace("<\\/", "</")).unwrap()
+}
+
+#[test]
+fn viewer_carries_the_wall_and_the_impacts_and_draws_them_in_chromium() {
+    let dir = wall_run();
+    let html = std::fs::read_to_string(dir.join("viewer.html")).unwrap();
+    let data = embedded_json(&html);
+    assert_eq!(data["wall_x"], -0.06);
+    assert_eq!(data["wall"]["face_x"], -0.06);
+    let spans = data["impacts"].as_array().unwrap();
+    assert_eq!(spans.len(), 3, "{}", data["impacts"]);
+    assert!(html.contains("function drawWall"));
+    let plain = embedded_json(&std::fs::read_to_string(plain_run().join("viewer.html")).unwrap());
+    assert!(plain["wall_x"].is_null() && plain.get("wall").is_none() && plain.get("impacts").is_none());
+
+    let test = "viewer_carries_the_wall_and_the_impacts_and_draws_them_in_chromium";
+    let found = tools::on_path(&["chromium", "chromium-browser", "google-chrome"]);
+    if !tools::tool_or_skip(test, found.is_some(), "chromium", "apt-get install chromium") {
+        return;
+    }
+    let chrome = found.unwrap();
+    let url = format!(
+        "file://{}",
+        std::fs::canonicalize(dir.join("viewer.html")).unwrap().display()
+    );
+    let dom = run_chromium(&chrome, &["--dump-dom".into(), format!("{url}#selftest")]);
+    assert!(
+        dom.contains("<title>SELFTEST PASS</title>"),
+        "the wall viewer's self-test failed"
+    );
+    let shot = dir.join("viewer.png");
+    run_chromium(
+        &chrome,
+        &[
+            "--window-size=1300,800".into(),
+            format!("--screenshot={}", shot.display()),
+            url,
+        ],
+    );
+    // the wall's face line (#555) and the impact lines (#9467bd) are on the page
+    let (_, _, px) = png_rgb(&shot);
+    let count = |c: [u8; 3]| px.iter().filter(|p| **p == c).count();
+    assert!(
+        count([0x55, 0x55, 0x55]) > 200,
+        "face line pixels: {}",
+        count([0x55, 0x55, 0x55])
+    );
+    assert!(
+        count([0x94, 0x67, 0xbd]) > 100,
+        "impact line pixels: {}",
+        count([0x94, 0x67, 0xbd])
+    );
+    if let Some(out) = std::env::var_os("WALL_FRAME_PNG") {
+        std::fs::copy(&shot, Path::new(&out).join("viewer.png")).unwrap();
+    }
+}
+
+/// Runs headless Chromium with `args` and a fresh profile; returns stdout. Fails after 90 s.
+fn run_chromium(binary: &Path, args: &[String]) -> String {
+    let profile = temp_dir("chromium-profile");
+    let mut child = Command::new(binary)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--hide-scrollbars",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start chromium");
+    let mut stdout = child.stdout.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        std::io::Read::read_to_string(&mut stdout, &mut s).unwrap();
+        s
+    });
+    let deadline = Instant::now() + Duration::from_secs(90);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("chromium did not finish within 90 s");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    reader.join().unwrap()
+}
