@@ -801,7 +801,9 @@ pub struct Contact {
     /// Gauss points per edge of the head's arc.
     pub points_per_edge: usize,
     /// Sub-steps per contact time scale `δ_max / v` while the head is in contact (see
-    /// [`crate::simulation`]'s impact resolution).
+    /// [`crate::simulation`]'s impact resolution). The default 10 meets the converged references
+    /// (rebound within 4e-4°, penetration within 0.3 %, the stiff contact's rebound within 0.01°)
+    /// at 2.7 times the cost of the same run without a wall; 20 changes them by less than 1e-4°.
     pub substeps: usize,
 }
 
@@ -811,7 +813,7 @@ impl Default for Contact {
             method: ContactMethod::EnergyConsistent,
             stiffness: 2e10,
             points_per_edge: 8,
-            substeps: 20,
+            substeps: 10,
         }
     }
 }

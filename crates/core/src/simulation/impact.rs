@@ -16,7 +16,7 @@
 //!    pivot, `y` the contact point's depth below it). For the head's arc of radius `R` against the
 //!    flat face with the penalty pressure `k g`, the force is `k t (4/3) √(2R) δ^{3/2}` and the
 //!    energy `k t (8/15) √(2R) δ^{5/2}` (a cylinder on a plane). The tutorial's 20° swing against
-//!    `k = 2e10` gives `δ_max` = 397 µm and `τ` = 0.72 ms, so 20 sub-steps of 36 µs; the converged
+//!    `k = 2e10` gives `δ_max` = 397 µm and `τ` = 0.72 ms, so 10 sub-steps of 72 µs; the converged
 //!    impact lasts 2.1 ms.
 //!    A compliant body yields before the penalty does: its own time scale is the quarter period
 //!    `(π/2) √(m / k_b)` of the effective mass on the body's contact stiffness, estimated as that
