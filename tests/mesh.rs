@@ -255,7 +255,10 @@ proptest! {
             prop_assert!(mesh.min_jacobian(t) > 0.0, "element {} inverted", t);
         }
         let exact = geometry::pendulum(&cfg.geometry, &cfg.mesh_sizes()).expect("shape").moments().area;
-        let tol = if order == 2 { 1e-6 } else { 2e-3 };
+        // the curved (quadratic) edges approximate each circle with an area error that grows like
+        // (h/R)^4 of the smallest circle: a 3 mm hole in a 30 mm head at grading 0.15 reaches 1.2e-6
+        // (saved in mesh.proptest-regressions); straight edges lose the circular segments
+        let tol = if order == 2 { 5e-6 } else { 2e-3 };
         let err = (mesh.area() - exact).abs() / exact;
         prop_assert!(err < tol, "area error {:.3e}", err);
         let hinge: f64 = mesh.edges_named(geometry::ROTATION).map(|e| chord(&mesh, e.nodes)).sum();
