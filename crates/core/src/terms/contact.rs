@@ -373,13 +373,7 @@ impl Term for RigidWall {
     }
 
     fn hessian_entries(&self) -> Vec<(usize, usize)> {
-        let mut e = Vec::new();
-        for (i, &a) in self.coupled.iter().enumerate() {
-            for &b in &self.coupled[i..] {
-                e.push((a, b));
-            }
-        }
-        e
+        super::dense_block(&self.coupled)
     }
 
     /// The secant of each point's energy along its gap (see the module doc).

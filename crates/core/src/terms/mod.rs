@@ -96,6 +96,18 @@ pub trait Term: Send + Sync {
         -> f64;
 }
 
+/// Every pair `(dofs[i], dofs[j])`, `i ≤ j`: the entries of a dense block of the Hessian among
+/// `dofs`, for [`Term::hessian_entries`].
+pub fn dense_block(dofs: &[usize]) -> Vec<(usize, usize)> {
+    let mut e = Vec::with_capacity(dofs.len() * (dofs.len() + 1) / 2);
+    for (i, &a) in dofs.iter().enumerate() {
+        for &b in &dofs[i..] {
+            e.push((a, b));
+        }
+    }
+    e
+}
+
 /// What a term reads besides the displacement it is evaluated at (see the module doc).
 #[derive(Clone, Copy, Debug)]
 pub struct StepContext<'a> {

@@ -471,13 +471,7 @@ impl Term for Torque {
         if self.mode() == TorqueMode::Fixed {
             return Vec::new();
         }
-        let mut e = Vec::with_capacity(self.dofs.len() * (self.dofs.len() + 1) / 2);
-        for (i, &a) in self.dofs.iter().enumerate() {
-            for &b in &self.dofs[i..] {
-                e.push((a, b));
-            }
-        }
-        e
+        super::dense_block(&self.dofs)
     }
 
     /// Follower: `−M̄ ∇ᵈθ_hub` with `M̄ = ½(M(t₀) + M(t₁))` and the discrete gradient of the hub
