@@ -14,8 +14,9 @@
 //!   rounding of `h` is absorbed: [`Instance::internal_steps`]). A failed
 //!   internal step leaves the state as it was before the whole `doStep` (a snapshot taken before a
 //!   multi-step `doStep` is restored; a single step is rolled back by the stepper itself).
-//! * **FMU states** ([`FmuState`]) are a [`Snapshot`] plus the held input and the contact counters;
-//!   serialised as the snapshot's bytes behind a small header ([`FmuState::to_bytes`]).
+//! * **FMU states** ([`FmuState`]) are a [`Snapshot`] plus the held input and the impact flag
+//!   (the impact count is the stepper's, in the snapshot); serialised as the snapshot's bytes
+//!   behind a small header ([`FmuState::to_bytes`]).
 
 use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot};
 
@@ -63,24 +64,21 @@ pub struct FmuState {
     pub snapshot: Snapshot,
     /// The held torque input \[N m\].
     pub tau: f64,
-    /// Impacts so far.
-    pub contact_count: i32,
     /// An impact started during the last step.
     pub impact: bool,
     /// The internal step of the last `doStep` \[s\] (it decides the next one's rounding).
     pub last_internal_step: Option<f64>,
 }
 
-const STATE_MAGIC: &[u8; 8] = b"PFEMFMU1";
+const STATE_MAGIC: &[u8; 8] = b"PFEMFMU2";
 
 impl FmuState {
-    /// `"PFEMFMU1"`, `tau` (f64 bits), `contact_count` (i32), `impact` (u8), the last internal
+    /// `"PFEMFMU2"`, `tau` (f64 bits), `impact` (u8), the last internal
     /// step (f64 bits; NaN for none), then [`Snapshot::to_bytes`] (which carries its own checksum);
     /// little-endian.
     pub fn to_bytes(&self) -> Vec<u8> {
         let mut b = STATE_MAGIC.to_vec();
         b.extend_from_slice(&self.tau.to_bits().to_le_bytes());
-        b.extend_from_slice(&self.contact_count.to_le_bytes());
         b.push(u8::from(self.impact));
         let last = self.last_internal_step.unwrap_or(f64::NAN);
         b.extend_from_slice(&last.to_bits().to_le_bytes());
@@ -90,23 +88,21 @@ impl FmuState {
 
     /// Reads [`FmuState::to_bytes`]; a damaged or foreign buffer is an error.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, Error> {
-        const HEAD: usize = 8 + 8 + 4 + 1 + 8;
+        const HEAD: usize = 8 + 8 + 1 + 8;
         if bytes.len() < HEAD || &bytes[..8] != STATE_MAGIC {
             return Err(Error::Input(format!(
-                "serialized FMU state: {} bytes without the PFEMFMU1 header (not made by this FMU)",
+                "serialized FMU state: {} bytes without the PFEMFMU2 header (not made by this FMU)",
                 bytes.len()
             )));
         }
         let tau = f64::from_bits(u64::from_le_bytes(bytes[8..16].try_into().expect("8 bytes")));
-        let contact_count = i32::from_le_bytes(bytes[16..20].try_into().expect("4 bytes"));
-        let impact = bytes[20] != 0;
-        let last = f64::from_bits(u64::from_le_bytes(bytes[21..29].try_into().expect("8 bytes")));
+        let impact = bytes[16] != 0;
+        let last = f64::from_bits(u64::from_le_bytes(bytes[17..25].try_into().expect("8 bytes")));
         let last_internal_step = (!last.is_nan()).then_some(last);
         let snapshot = Snapshot::from_bytes(&bytes[HEAD..], "serialized FMU state")?;
         Ok(Self {
             snapshot,
             tau,
-            contact_count,
             impact,
             last_internal_step,
         })
@@ -130,8 +126,6 @@ pub struct Instance {
     stale: bool,
     /// `startTime` of `fmi2SetupExperiment` \[s\]; the FMU time is this plus the simulation's.
     start_time: f64,
-    /// Impacts so far (no wall yet: 0).
-    contact_count: i32,
     /// An impact started during the last step.
     impact: bool,
     /// The internal step of the last `doStep` \[s\] (see [`Instance::internal_steps`]).
@@ -162,7 +156,6 @@ impl Instance {
             sim: None,
             stale: true,
             start_time: 0.0,
-            contact_count: 0,
             impact: false,
             last_internal_step: None,
             cache: [None; OUTPUTS],
@@ -444,6 +437,7 @@ impl Instance {
         let (n, sub) = self.internal_steps(h);
         let sim = self.sim.as_mut().expect("built at exitInitializationMode");
         let before = (n > 1).then(|| sim.snapshot());
+        let impacts_before = sim.impacts();
         for k in 0..n {
             if let Err(e) = sim.step(sub) {
                 let failed_at = self.start_time + sim.time();
@@ -458,9 +452,7 @@ impl Instance {
             }
         }
         self.last_internal_step = Some(sub);
-        let impacts = sim.impacts() as i32;
-        self.impact = impacts > self.contact_count;
-        self.contact_count = impacts;
+        self.impact = sim.impacts() > impacts_before;
         self.invalidate();
         Status::Ok
     }
@@ -495,7 +487,6 @@ impl Instance {
         Ok(FmuState {
             snapshot: sim.snapshot(),
             tau: self.value_of(Role::Tau),
-            contact_count: self.contact_count,
             impact: self.impact,
             last_internal_step: self.last_internal_step,
         })
@@ -512,7 +503,6 @@ impl Instance {
         }
         let tau = VARIABLES.iter().position(|v| v.role == Role::Tau).expect("tau");
         self.values[tau] = state.tau;
-        self.contact_count = state.contact_count;
         self.impact = state.impact;
         self.last_internal_step = state.last_internal_step;
         self.invalidate();
