@@ -4,12 +4,10 @@
 //! With a wall (`wall_kind` 1), they are the stepper's: the smallest gap of the head's arc to the
 //! face and the wall's normal force ([`pendulum_fem::terms::RigidWall`]), and the impacts the
 //! stepper counted (an impact counts when the head first penetrates). Without one, `gap` is the
-//! distance of the deformed head to the plane `x = wall_x` and nothing touches.
+//! distance of the deformed head to the plane `x = wall_x` and nothing touches
+//! ([`Simulation::gap`] either way).
 
 use pendulum_fem::Simulation;
-
-/// The boundary of the mesh that faces the wall: the outer circle of the head.
-pub const HEAD_BOUNDARY: &str = "contact_head";
 
 /// The contact outputs of one state.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,26 +24,15 @@ pub struct ContactOutputs {
 
 /// The contact outputs of the current state of `sim`; `impact` is the instance's flag.
 pub fn contact_outputs(sim: &Simulation, impact: bool) -> ContactOutputs {
-    let u = sim.displacement();
-    let count = sim.impacts() as i32;
-    if let Some(wall) = &sim.model.wall {
-        return ContactOutputs {
-            gap: wall.smallest_gap(u),
-            force: wall.normal_force(u),
-            count,
-            impact,
-        };
-    }
-    let mesh = &sim.model.mesh;
-    let head_min_x = mesh
-        .edges_named(HEAD_BOUNDARY)
-        .flat_map(|e| e.nodes)
-        .map(|n| mesh.nodes[n][0] + u[2 * n])
-        .fold(f64::INFINITY, f64::min);
+    let force = sim
+        .model
+        .wall
+        .as_ref()
+        .map_or(0.0, |wall| wall.normal_force(sim.displacement()));
     ContactOutputs {
-        gap: head_min_x - sim.model.config.wall.x,
-        force: 0.0,
-        count,
+        gap: sim.gap(),
+        force,
+        count: sim.impacts() as i32,
         impact,
     }
 }

@@ -12,11 +12,12 @@
 //!   the columns of `results.csv` ([`pendulum_fem::StepRecord::header`]: with a wall, the contact
 //!   columns too; [`pendulum_fem_io::run::csv_values`]) as numpy arrays.
 //! * **Wall**: `gap`, `contact_force`, `impacts`, `in_contact` and `events` (the rows of the CLI's
-//!   `events.csv`) read the stepper's wall ([`contact_gap`] is the one place that reads the gap).
+//!   `events.csv`) read the stepper's wall ([`pendulum_fem::Simulation::gap`]).
 //! * **Torque input**: `tau` holds the pivot torque ([`pendulum_fem::Simulation::set_torque`]). A
 //!   model without a `[torque]` profile has no torque term (so that `Simulation()` is the CLI's
 //!   default run bit for bit); setting `tau` before the first step declares one (`torque.profile =
-//!   "constant"`, `amplitude = 0`) by rebuilding the model from the same mesh.
+//!   "constant"`, `amplitude = 0`) by rebuilding the model (its mesh generated again from the
+//!   configuration).
 //! * **State**: `snapshot()`/`restore()` as bytes ([`pendulum_fem::Snapshot::to_bytes`]) and
 //!   pickling (the configuration as TOML and the snapshot).
 //! * **Errors**: the Rust message in a Python exception: `ValueError` for invalid input (a bad
@@ -55,28 +56,6 @@ fn py_err(e: Error) -> PyErr {
 
 /// How often `run` looks for Ctrl-C (in the main thread).
 const SIGNAL_CHECK: std::time::Duration = std::time::Duration::from_millis(50);
-
-/// The boundary of the head's outer circle ([`pendulum_fem::Mesh::nodes_on`]).
-const HEAD_BOUNDARY: &str = "contact_head";
-
-/// The gap of the current state \[m\], positive while apart. With a wall (`wall.kind = "rigid"`):
-/// the stepper's, the smallest gap of the head's arc to the wall face
-/// ([`pendulum_fem::terms::RigidWall::smallest_gap`]; negative: the largest penetration), as in the
-/// `gap_m` column of `results.csv`. Without one: the smallest signed distance from the nodes of the
-/// head's arc to the plane `x = wall.x` (the hanging head touches it by default); `+∞` for a mesh
-/// without a head arc.
-pub fn contact_gap(sim: &Simulation, head_nodes: &[usize]) -> f64 {
-    let u = sim.displacement();
-    if let Some(wall) = &sim.model.wall {
-        return wall.smallest_gap(u);
-    }
-    let face_x = sim.model.config.wall.x;
-    let nodes = &sim.model.mesh.nodes;
-    head_nodes
-        .iter()
-        .map(|&n| nodes[n][0] + u[2 * n] - face_x)
-        .fold(f64::INFINITY, f64::min)
-}
 
 /// `cfg` with a torque input declared (`torque.profile = "constant"`, `amplitude = 0`).
 fn with_torque_input(cfg: &Config) -> Config {
@@ -221,18 +200,12 @@ type Reduced<'py> = (Bound<'py, PyAny>, (String, Bound<'py, PyBytes>));
 pub struct PySimulation {
     sim: Simulation,
     config: Config,
-    head_nodes: Vec<usize>,
 }
 
 impl PySimulation {
     fn from_config(py: Python<'_>, config: Config) -> PyResult<Self> {
         let sim = build(py, &config)?;
-        let head_nodes = sim.model.mesh.nodes_on(HEAD_BOUNDARY);
-        Ok(Self {
-            sim,
-            config,
-            head_nodes,
-        })
+        Ok(Self { sim, config })
     }
 
     /// Rebuilds the model with a torque input (before the first step only).
@@ -245,8 +218,11 @@ impl PySimulation {
             ));
         }
         let config = with_torque_input(&self.config);
-        let mesh = self.sim.model.mesh.clone();
-        self.sim = py.detach(|| Simulation::from_config(&config, mesh)).map_err(py_err)?;
+        // the pendulum's mesh again (the model's mesh holds every body: a deformable wall's block
+        // would be appended twice)
+        self.sim = py
+            .detach(|| Simulation::from_config(&config, mesh::generate(&config)?))
+            .map_err(py_err)?;
         self.config = config;
         Ok(())
     }
@@ -433,7 +409,7 @@ impl PySimulation {
     /// `x = wall.x`.
     #[getter]
     fn gap(&self) -> f64 {
-        contact_gap(&self.sim, &self.head_nodes)
+        self.sim.gap()
     }
 
     /// Normal force of the wall on the head [N] (the `contact_force_N` column; 0 without a wall).

@@ -272,3 +272,14 @@ def test_the_wall_properties_follow_an_impact_and_round_trip_through_snapshots()
     copy = pickle.loads(pickle.dumps(sim))
     assert copy.events == sim.events and copy.impacts == 1 and copy.in_contact
     assert copy.gap == sim.gap and copy.contact_force == sim.contact_force
+
+
+def test_a_torque_input_declared_with_the_deformable_wall_keeps_the_mesh_of_both_bodies():
+    # declaring tau rebuilds the model: the wall's block must not be appended a second time
+    sim = pendulum_fem.Simulation(**{"wall.kind": "deformable", "time.end": 0.02})
+    nodes, triangles = sim.nodes.copy(), sim.triangles.copy()
+    sim.tau = 0.0
+    assert np.array_equal(sim.nodes, nodes)
+    assert np.array_equal(sim.triangles, triangles)
+    sim.step(0.01)
+    assert sim.gap > 0.0

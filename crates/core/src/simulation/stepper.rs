@@ -167,6 +167,22 @@ impl Simulation {
         }
     }
 
+    /// The gap of the current state \[m\], positive while apart: with a wall, the smallest gap of
+    /// the head's arc to its face (negative: the largest penetration; the `gap_m` column of
+    /// `results.csv`); without one, the smallest signed distance of the arc's nodes to the plane
+    /// `x = wall.x` (`+∞` for a mesh without the arc).
+    pub fn gap(&self) -> f64 {
+        let u = &self.state.u;
+        if let Some(wall) = &self.model.wall {
+            return wall.smallest_gap(u);
+        }
+        let (mesh, face_x) = (&self.model.mesh, self.model.config.wall.x);
+        mesh.edges_named(super::CONTACT_BOUNDARY)
+            .flat_map(|e| e.nodes)
+            .map(|n| mesh.nodes[n][0] + u[2 * n] - face_x)
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Force of the hinge on the body \[N\].
     pub fn hinge_reaction(&self) -> [f64; 2] {
         Hinge::reaction(self.lambda)
