@@ -47,6 +47,7 @@ use crate::{Error, Mesh};
 pub mod body;
 mod impact;
 mod snapshot;
+pub mod split;
 mod stepper;
 
 pub use body::{Body, BodySpec};
