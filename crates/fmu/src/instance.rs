@@ -9,15 +9,17 @@
 //!   meanwhile; an invalid parameter fails there with the configuration's message naming the key.
 //! * **`doStep(t, h)`**: the master's `t` is accepted when it is within 1e-6 (relative, at least
 //!   1e-6 s absolute) of the FMU's time; the FMU keeps its own clock. `h = 0` refreshes the outputs.
-//!   Otherwise `h` is split into `n = ⌈h / max_internal_step⌉` equal internal steps, so with
-//!   `h = max_internal_step` it is one `Simulation::step(h)`, bit for bit the CLI's step (a master's
-//!   rounding of `h` is absorbed: [`Instance::internal_steps`]). A failed
+//!   Otherwise `h` is split into internal steps by [`split::internal_steps`] (the rule the Python
+//!   package uses too): `n = ⌈h / max_internal_step⌉` equal steps, so with `h = max_internal_step`
+//!   it is one `Simulation::step(h)`, bit for bit the CLI's step, a master's rounding of `h`
+//!   absorbed, and a step that would take more than [`split::MAX_INTERNAL_STEPS`] refused. A failed
 //!   internal step leaves the state as it was before the whole `doStep` (a snapshot taken before a
 //!   multi-step `doStep` is restored; a single step is rolled back by the stepper itself).
 //! * **FMU states** ([`FmuState`]) are a [`Snapshot`] plus the held input and the impact flag
 //!   (the impact count is the stepper's, in the snapshot); serialised as the snapshot's bytes
 //!   behind a small header ([`FmuState::to_bytes`]).
 
+use pendulum_fem::simulation::split;
 use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot};
 
 use crate::contact::contact_outputs;
@@ -128,7 +130,7 @@ pub struct Instance {
     start_time: f64,
     /// An impact started during the last step.
     impact: bool,
-    /// The internal step of the last `doStep` \[s\] (see [`Instance::internal_steps`]).
+    /// The internal step of the last `doStep` \[s\] (see [`split::internal_steps`]).
     last_internal_step: Option<f64>,
     /// Outputs computed for the current state, by [`Output`] as index.
     cache: [Option<f64>; OUTPUTS],
@@ -136,10 +138,6 @@ pub struct Instance {
 
 /// The number of [`Output`]s.
 const OUTPUTS: usize = 8;
-
-/// Relative distance below which a communication step counts as a multiple of
-/// `max_internal_step`, or an internal step as the previous one ([`Instance::internal_steps`]).
-pub const STEP_SNAP: f64 = 1e-9;
 
 /// Relative tolerance between the master's communication point and the FMU's time.
 pub const TIME_TOLERANCE: f64 = 1e-6;
@@ -434,7 +432,11 @@ impl Instance {
             // an output refresh: outputs are computed on request from the current state
             return Status::Ok;
         }
-        let (n, sub) = self.internal_steps(h);
+        let max_step = self.value_of(Role::MaxInternalStep);
+        let (n, sub) = match split::internal_steps(h, max_step, self.last_internal_step) {
+            Ok(split) => split,
+            Err(e) => return self.error(&format!("fmi2DoStep from t = {now} s by h = {h} s refused: {e}")),
+        };
         let sim = self.sim.as_mut().expect("built at exitInitializationMode");
         let before = (n > 1).then(|| sim.snapshot());
         let impacts_before = sim.impacts();
@@ -455,28 +457,6 @@ impl Instance {
         self.impact = sim.impacts() > impacts_before;
         self.invalidate();
         Status::Ok
-    }
-
-    /// How `doStep` splits a communication step `h > 0`: `n = ⌈h / max_internal_step⌉` internal
-    /// steps of `h / n`. Masters compute `h` as a difference of communication points, which carries
-    /// rounding (fmpy: `(k + 1)·0.01 − k·0.01`); so that the internal steps are those of the CLI and
-    /// the stepper's clock stays on its grid (`t = k·dt`, computed, not accumulated), an `h` within
-    /// [`STEP_SNAP`] (relative) of `n·max_internal_step` is taken as `n` steps of exactly
-    /// `max_internal_step`, and an internal step within [`STEP_SNAP`] of the previous `doStep`'s as
-    /// that one. The time advanced then differs from `h` by that rounding only.
-    pub fn internal_steps(&self, h: f64) -> (u64, f64) {
-        let max = self.value_of(Role::MaxInternalStep);
-        let ratio = h / max;
-        let nearest = ratio.round();
-        if nearest >= 1.0 && (ratio - nearest).abs() <= STEP_SNAP * ratio {
-            return (nearest as u64, max);
-        }
-        let n = ratio.ceil().max(1.0) as u64;
-        let sub = if n == 1 { h } else { h / n as f64 };
-        match self.last_internal_step {
-            Some(last) if (sub - last).abs() <= STEP_SNAP * last => (n, last),
-            _ => (n, sub),
-        }
     }
 
     /// The state for `fmi2GetFMUstate`.
