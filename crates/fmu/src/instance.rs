@@ -15,9 +15,9 @@
 //!   absorbed, and a step that would take more than [`split::MAX_INTERNAL_STEPS`] refused. A failed
 //!   internal step leaves the state as it was before the whole `doStep` (a snapshot taken before a
 //!   multi-step `doStep` is restored; a single step is rolled back by the stepper itself).
-//! * **FMU states** ([`FmuState`]) are a [`Snapshot`] plus the held input and the impact flag
-//!   (the impact count is the stepper's, in the snapshot); serialised as the snapshot's bytes
-//!   behind a small header ([`FmuState::to_bytes`]).
+//! * **FMU states** ([`FmuState`]) are a [`Snapshot`] plus the held input, the impact flag, the
+//!   last internal step and the start time (the impact count is the stepper's, in the snapshot);
+//!   serialised behind a small header, all of it under one checksum ([`FmuState::to_bytes`]).
 
 use pendulum_fem::simulation::split;
 use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot};
@@ -70,43 +70,96 @@ pub struct FmuState {
     pub impact: bool,
     /// The internal step of the last `doStep` \[s\] (it decides the next one's rounding).
     pub last_internal_step: Option<f64>,
+    /// `startTime` of `fmi2SetupExperiment` \[s\]: the FMU time is this plus the snapshot's.
+    pub start_time: f64,
 }
 
-const STATE_MAGIC: &[u8; 8] = b"PFEMFMU2";
+const STATE_MAGIC: &[u8; 8] = b"PFEMFMU3";
+
+/// Bytes before the snapshot: magic, `tau`, `impact`, last internal step, start time.
+const STATE_HEAD: usize = 8 + 8 + 1 + 8 + 8;
+
+/// 64-bit FNV-1a, the checksum of a serialized FMU state.
+fn checksum(bytes: &[u8]) -> u64 {
+    crate::variables::fnv1a(bytes, 0xcbf2_9ce4_8422_2325)
+}
 
 impl FmuState {
-    /// `"PFEMFMU2"`, `tau` (f64 bits), `impact` (u8), the last internal
-    /// step (f64 bits; NaN for none), then [`Snapshot::to_bytes`] (which carries its own checksum);
-    /// little-endian.
+    /// Little-endian:
+    ///
+    /// ```text
+    /// "PFEMFMU3"  magic (8 bytes)
+    /// f64         tau (IEEE bits)
+    /// u8          impact (0/1)
+    /// f64         the last internal step (NaN for none)
+    /// f64         start time
+    /// …           Snapshot::to_bytes (with its own checksum)
+    /// u64         FNV-1a of every byte before it
+    /// ```
+    ///
+    /// The checksum covers the header too: a flipped bit anywhere is refused by
+    /// [`FmuState::from_bytes`].
     pub fn to_bytes(&self) -> Vec<u8> {
         let mut b = STATE_MAGIC.to_vec();
         b.extend_from_slice(&self.tau.to_bits().to_le_bytes());
         b.push(u8::from(self.impact));
         let last = self.last_internal_step.unwrap_or(f64::NAN);
         b.extend_from_slice(&last.to_bits().to_le_bytes());
+        b.extend_from_slice(&self.start_time.to_bits().to_le_bytes());
         b.extend_from_slice(&self.snapshot.to_bytes());
+        let sum = checksum(&b);
+        b.extend_from_slice(&sum.to_le_bytes());
         b
     }
 
-    /// Reads [`FmuState::to_bytes`]; a damaged or foreign buffer is an error.
+    /// Reads [`FmuState::to_bytes`]; a damaged, truncated or foreign buffer is an error.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, Error> {
-        const HEAD: usize = 8 + 8 + 1 + 8;
-        if bytes.len() < HEAD || &bytes[..8] != STATE_MAGIC {
-            return Err(Error::Input(format!(
-                "serialized FMU state: {} bytes without the PFEMFMU2 header (not made by this FMU)",
+        let refuse = |why: String| {
+            Err(Error::Input(format!(
+                "serialized FMU state of {} bytes: {why}",
                 bytes.len()
-            )));
+            )))
+        };
+        if bytes.len() < 8 || &bytes[..8] != STATE_MAGIC {
+            let older = bytes.len() >= 8 && bytes.starts_with(b"PFEMFMU");
+            return refuse(if older {
+                format!(
+                    "format {} of another version of this FMU; this one reads {}",
+                    String::from_utf8_lossy(&bytes[..8]),
+                    String::from_utf8_lossy(STATE_MAGIC)
+                )
+            } else {
+                "it does not start with PFEMFMU3 (not made by this FMU)".into()
+            });
         }
-        let tau = f64::from_bits(u64::from_le_bytes(bytes[8..16].try_into().expect("8 bytes")));
-        let impact = bytes[16] != 0;
-        let last = f64::from_bits(u64::from_le_bytes(bytes[17..25].try_into().expect("8 bytes")));
-        let last_internal_step = (!last.is_nan()).then_some(last);
-        let snapshot = Snapshot::from_bytes(&bytes[HEAD..], "serialized FMU state")?;
+        if bytes.len() < STATE_HEAD + 8 {
+            return refuse("truncated".into());
+        }
+        let (body, sum) = bytes.split_at(bytes.len() - 8);
+        if checksum(body) != u64::from_le_bytes(sum.try_into().expect("8 bytes")) {
+            return refuse("damaged (its checksum does not match its bytes)".into());
+        }
+        let f64_at = |i: usize| f64::from_bits(u64::from_le_bytes(body[i..i + 8].try_into().expect("8 bytes")));
+        let tau = f64_at(8);
+        let impact = match body[16] {
+            0 => false,
+            1 => true,
+            other => return refuse(format!("impact flag {other}, allowed 0 or 1")),
+        };
+        let last = f64_at(17);
+        let start_time = f64_at(25);
+        if !tau.is_finite() || !start_time.is_finite() || !(last.is_nan() || (last.is_finite() && last > 0.0)) {
+            return refuse(format!(
+                "tau = {tau}, last internal step = {last}, start time = {start_time}: not a state of this FMU"
+            ));
+        }
+        let snapshot = Snapshot::from_bytes(&body[STATE_HEAD..], "serialized FMU state")?;
         Ok(Self {
             snapshot,
             tau,
             impact,
-            last_internal_step,
+            last_internal_step: (!last.is_nan()).then_some(last),
+            start_time,
         })
     }
 }
@@ -469,6 +522,7 @@ impl Instance {
             tau: self.value_of(Role::Tau),
             impact: self.impact,
             last_internal_step: self.last_internal_step,
+            start_time: self.start_time,
         })
     }
 
@@ -485,6 +539,7 @@ impl Instance {
         self.values[tau] = state.tau;
         self.impact = state.impact;
         self.last_internal_step = state.last_internal_step;
+        self.start_time = state.start_time;
         self.invalidate();
         if self.phase == Phase::Instantiated || self.phase == Phase::Initialization {
             self.phase = Phase::StepMode;
