@@ -7,6 +7,11 @@
 //!   stepper ([`Instance::config`]). The simulation is built when first needed (an output read in
 //!   initialisation mode, or `fmi2ExitInitializationMode`) and built again if a parameter changed
 //!   meanwhile; an invalid parameter fails there with the configuration's message naming the key.
+//! * **The state machine** ([`Phase`]): every call checks that the FMI 2.0 Co-Simulation state
+//!   machine allows it in the current phase; a call it forbids returns `fmi2Error` with a logged
+//!   message naming the function and the phase, and changes nothing. A panic caught at the C
+//!   boundary puts the instance into [`Phase::Error`], which only `fmi2Reset` and
+//!   `fmi2FreeInstance` leave (the panic may have left the state half-updated).
 //! * **`doStep(t, h)`**: the master's `t` is accepted when it is within 1e-6 (relative, at least
 //!   1e-6 s absolute) of the FMU's time; the FMU keeps its own clock. `h = 0` refreshes the outputs.
 //!   Otherwise `h` is split into internal steps by [`split::internal_steps`] (the rule the Python
@@ -54,7 +59,38 @@ pub enum Phase {
     StepMode,
     /// After `fmi2Terminate`.
     Terminated,
+    /// After a caught panic ([`Instance::enter_error_state`]): only `fmi2Reset` and
+    /// `fmi2FreeInstance` are allowed.
+    Error,
 }
+
+impl Phase {
+    /// The phase as messages name it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Instantiated => "instantiated",
+            Self::Initialization => "initialization mode",
+            Self::StepMode => "step mode",
+            Self::Terminated => "terminated",
+            Self::Error => "error",
+        }
+    }
+}
+
+/// The phases in which values can be read (`fmi2Get*`).
+pub const GET_PHASES: &[Phase] = &[Phase::Initialization, Phase::StepMode, Phase::Terminated];
+
+/// The phases in which some values can be set (`fmi2Set*`): parameters before
+/// `fmi2ExitInitializationMode`, the input until `fmi2Terminate`.
+pub const SET_PHASES: &[Phase] = &[Phase::Instantiated, Phase::Initialization, Phase::StepMode];
+
+/// Every phase but [`Phase::Error`].
+pub const LIVE_PHASES: &[Phase] = &[
+    Phase::Instantiated,
+    Phase::Initialization,
+    Phase::StepMode,
+    Phase::Terminated,
+];
 
 /// Receives log messages: `(status, category, message)`.
 pub type LogSink = Box<dyn Fn(Status, &str, &str)>;
@@ -187,6 +223,10 @@ pub struct Instance {
     last_internal_step: Option<f64>,
     /// Outputs computed for the current state, by [`Output`] as index.
     cache: [Option<f64>; OUTPUTS],
+    /// Why the instance is in [`Phase::Error`].
+    failure: Option<String>,
+    /// A panic the next C call raises ([`Instance::panic_on_next_call`], tests only).
+    pub(crate) test_panic: Option<String>,
 }
 
 /// The number of [`Output`]s.
@@ -210,7 +250,44 @@ impl Instance {
             impact: false,
             last_internal_step: None,
             cache: [None; OUTPUTS],
+            failure: None,
+            test_panic: None,
         }
+    }
+
+    /// `Ok` when `function` is allowed in the current phase (one of `allowed`); otherwise logs an
+    /// error naming the function and the phase (and, in [`Phase::Error`], why the instance is
+    /// there) and returns [`Status::Error`].
+    pub fn check_phase(&self, function: &str, allowed: &[Phase]) -> Result<(), Status> {
+        if allowed.contains(&self.phase) {
+            return Ok(());
+        }
+        if self.phase == Phase::Error {
+            let why = self.failure.as_deref().unwrap_or("an earlier call failed");
+            return Err(self.error(&format!(
+                "{function}: not allowed in the error state ({why}); only fmi2Reset or fmi2FreeInstance leave it"
+            )));
+        }
+        let names: Vec<&str> = allowed.iter().map(|p| p.name()).collect();
+        Err(self.error(&format!(
+            "{function}: not allowed in the {} state (allowed in: {})",
+            self.phase.name(),
+            names.join(", ")
+        )))
+    }
+
+    /// Puts the instance into [`Phase::Error`] for `reason` (a caught panic): every call but
+    /// `fmi2Reset` and `fmi2FreeInstance` is refused from now on, with `reason` in the message.
+    pub fn enter_error_state(&mut self, reason: String) {
+        self.phase = Phase::Error;
+        self.failure = Some(reason);
+    }
+
+    /// Makes the next C call on this instance panic with `message` inside the panic guard (tests
+    /// of the error state; nothing in the C interface sets it).
+    #[doc(hidden)]
+    pub fn panic_on_next_call(&mut self, message: &str) {
+        self.test_panic = Some(message.to_string());
     }
 
     /// Logs an error (always) and returns [`Status::Error`].
@@ -240,7 +317,8 @@ impl Instance {
         self.start_time + self.sim.as_ref().map_or(0.0, Simulation::time)
     }
 
-    /// Back to the instantiated state with the start values (`fmi2Reset`).
+    /// Back to the instantiated state with the start values (`fmi2Reset`; allowed in every phase,
+    /// [`Phase::Error`] included).
     pub fn reset(&mut self) {
         let (name, logging_on) = (std::mem::take(&mut self.name), self.logging_on);
         let log = std::mem::replace(&mut self.log, Box::new(|_, _, _| {}));
@@ -249,8 +327,8 @@ impl Instance {
 
     /// `fmi2SetupExperiment`: the start time (tolerance and stop time are not used).
     pub fn setup_experiment(&mut self, start_time: f64) -> Status {
-        if self.phase != Phase::Instantiated {
-            return self.error("fmi2SetupExperiment: allowed only after fmi2Instantiate or fmi2Reset");
+        if let Err(status) = self.check_phase("fmi2SetupExperiment", &[Phase::Instantiated]) {
+            return status;
         }
         if !start_time.is_finite() {
             return self.error(&format!("fmi2SetupExperiment: startTime = {start_time} is not finite"));
@@ -261,8 +339,8 @@ impl Instance {
 
     /// `fmi2EnterInitializationMode`.
     pub fn enter_initialization(&mut self) -> Status {
-        if self.phase != Phase::Instantiated {
-            return self.error("fmi2EnterInitializationMode: allowed only once, after fmi2Instantiate");
+        if let Err(status) = self.check_phase("fmi2EnterInitializationMode", &[Phase::Instantiated]) {
+            return status;
         }
         self.phase = Phase::Initialization;
         Status::Ok
@@ -270,8 +348,8 @@ impl Instance {
 
     /// `fmi2ExitInitializationMode`: builds the simulation; invalid parameters are reported here.
     pub fn exit_initialization(&mut self) -> Status {
-        if self.phase != Phase::Initialization {
-            return self.error("fmi2ExitInitializationMode: not in initialization mode");
+        if let Err(status) = self.check_phase("fmi2ExitInitializationMode", &[Phase::Initialization]) {
+            return status;
         }
         if let Err(status) = self.ensure_sim() {
             return status;
@@ -280,8 +358,12 @@ impl Instance {
         Status::Ok
     }
 
-    /// `fmi2Terminate`.
+    /// `fmi2Terminate`: from step mode only (FMI 2.0 allows it after a step, not before
+    /// initialisation, nor twice).
     pub fn terminate(&mut self) -> Status {
+        if let Err(status) = self.check_phase("fmi2Terminate", &[Phase::StepMode]) {
+            return status;
+        }
         self.phase = Phase::Terminated;
         Status::Ok
     }
@@ -369,19 +451,30 @@ impl Instance {
         }
     }
 
-    /// Sets values by value reference (`fmi2SetReal`, `…Integer`, `…Boolean`).
+    /// Sets values by value reference (`fmi2SetReal`, `…Integer`, `…Boolean`): parameters in the
+    /// instantiated state and initialization mode, the input `tau` until `fmi2Terminate`.
     pub fn set(&mut self, kind: Kind, vrs: &[u32], values: &[f64]) -> Status {
+        let function = match kind {
+            Kind::Real => "fmi2SetReal",
+            Kind::Integer => "fmi2SetInteger",
+            Kind::Boolean => "fmi2SetBoolean",
+        };
+        if let Err(status) = self.check_phase(function, SET_PHASES) {
+            return status;
+        }
         self.invalidate();
         for (&vr, &value) in vrs.iter().zip(values) {
             let Some((i, v)) = crate::variables::lookup(vr, kind) else {
-                return self.error(&format!("set: no {kind:?} variable with value reference {vr}"));
+                return self.error(&format!("{function}: no {kind:?} variable with value reference {vr}"));
             };
             match v.causality {
-                Causality::Output => return self.error(&format!("set: {} is an output", v.name)),
+                Causality::Output => return self.error(&format!("{function}: {} is an output", v.name)),
                 Causality::Parameter if !matches!(self.phase, Phase::Instantiated | Phase::Initialization) => {
                     return self.error(&format!(
-                        "set: {} is a fixed parameter; set it before fmi2ExitInitializationMode",
-                        v.name
+                        "{function}: {} is a fixed parameter, not settable in the {} state; set it before \
+                         fmi2ExitInitializationMode",
+                        v.name,
+                        self.phase.name()
                     ));
                 }
                 Causality::Parameter => {
@@ -392,14 +485,14 @@ impl Instance {
                 }
                 Causality::Input => {
                     if !value.is_finite() {
-                        return self.error(&format!("set: {} = {value} is not finite", v.name));
+                        return self.error(&format!("{function}: {} = {value} is not finite", v.name));
                     }
                     let changed = self.values[i].to_bits() != value.to_bits();
                     self.values[i] = value;
                     if let (true, Some(sim), false) = (changed, self.sim.as_mut(), self.stale) {
                         if let Err(e) = sim.set_torque(value) {
                             let t = self.time();
-                            return self.error(&format!("set: tau = {value} N.m at t = {t} s: {e}"));
+                            return self.error(&format!("{function}: tau = {value} N.m at t = {t} s: {e}"));
                         }
                     }
                 }
@@ -408,11 +501,20 @@ impl Instance {
         Status::Ok
     }
 
-    /// Reads values by value reference (`fmi2GetReal`, `…Integer`, `…Boolean`) into `out`.
+    /// Reads values by value reference (`fmi2GetReal`, `…Integer`, `…Boolean`) into `out`: from
+    /// initialization mode on (FMI 2.0 does not allow it in the instantiated state).
     pub fn get(&mut self, kind: Kind, vrs: &[u32], out: &mut [f64]) -> Status {
+        let function = match kind {
+            Kind::Real => "fmi2GetReal",
+            Kind::Integer => "fmi2GetInteger",
+            Kind::Boolean => "fmi2GetBoolean",
+        };
+        if let Err(status) = self.check_phase(function, GET_PHASES) {
+            return status;
+        }
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
             let Some((i, v)) = crate::variables::lookup(vr, kind) else {
-                return self.error(&format!("get: no {kind:?} variable with value reference {vr}"));
+                return self.error(&format!("{function}: no {kind:?} variable with value reference {vr}"));
             };
             *slot = match v.role {
                 Role::Output(which) => match self.output(which) {
@@ -431,9 +533,6 @@ impl Instance {
     fn output(&mut self, which: Output) -> Result<f64, Status> {
         if let Some(value) = self.cache[which as usize] {
             return Ok(value);
-        }
-        if self.phase == Phase::Instantiated {
-            return Err(self.error("get: outputs are available from fmi2EnterInitializationMode on"));
         }
         self.ensure_sim()?;
         let impact = self.impact;
@@ -465,13 +564,13 @@ impl Instance {
 
     /// `fmi2DoStep(t, h)` (see the module doc).
     pub fn do_step(&mut self, t: f64, h: f64) -> Status {
-        if self.phase != Phase::StepMode {
-            return self.error("fmi2DoStep: call fmi2ExitInitializationMode first");
+        if let Err(status) = self.check_phase("fmi2DoStep", &[Phase::StepMode]) {
+            return status;
         }
         let now = self.time();
         if !(h >= 0.0 && h.is_finite()) {
             return self.error(&format!(
-                "fmi2DoStep at t = {now} s: communicationStepSize = {h} s must be >= 0"
+                "fmi2DoStep at t = {now} s: communicationStepSize = {h} s; allowed a finite value >= 0 s"
             ));
         }
         // NaN is never within
@@ -514,6 +613,7 @@ impl Instance {
 
     /// The state for `fmi2GetFMUstate`.
     pub fn get_state(&self) -> Result<FmuState, Status> {
+        self.check_phase("fmi2GetFMUstate", LIVE_PHASES)?;
         let Some(sim) = self.sim.as_ref().filter(|_| !self.stale) else {
             return Err(self.error("fmi2GetFMUstate: the model is not built yet (after fmi2ExitInitializationMode)"));
         };
@@ -526,8 +626,12 @@ impl Instance {
         })
     }
 
-    /// `fmi2SetFMUstate`: a state of this model (same parameters) only.
+    /// `fmi2SetFMUstate`: a state of this model (same parameters) only. The phase stays (FMI 2.0:
+    /// setting a state is no transition; in the instantiated state the master still initialises).
     pub fn set_state(&mut self, state: &FmuState) -> Status {
+        if let Err(status) = self.check_phase("fmi2SetFMUstate", LIVE_PHASES) {
+            return status;
+        }
         if let Err(status) = self.ensure_sim() {
             return status;
         }
@@ -541,9 +645,6 @@ impl Instance {
         self.last_internal_step = state.last_internal_step;
         self.start_time = state.start_time;
         self.invalidate();
-        if self.phase == Phase::Instantiated || self.phase == Phase::Initialization {
-            self.phase = Phase::StepMode;
-        }
         Status::Ok
     }
 
