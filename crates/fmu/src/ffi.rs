@@ -2,8 +2,11 @@
 //! shared object (importers such as fmpy resolve all of them when they load it).
 //!
 //! Each function converts its C arguments, runs the call on the [`Instance`] inside
-//! [`std::panic::catch_unwind`] (a panic is logged and returned as `fmi2Error`; nothing unwinds into
-//! the importer) and converts the result back. An `fmi2Component` is a `Box<Instance>` turned into
+//! [`std::panic::catch_unwind`] and converts the result back. A panic is logged, returned as
+//! `fmi2Error` and puts the instance into its error state ([`crate::instance::Phase::Error`]): the state may be
+//! half-updated, so every later call but `fmi2Reset` and `fmi2FreeInstance` is refused (and
+//! `fmi2FreeFMUstate`, which only releases the master's memory). Nothing unwinds into the importer.
+//! A null array with a positive length is refused with a message, never read. An `fmi2Component` is a `Box<Instance>` turned into
 //! a raw pointer by `fmi2Instantiate` and back by `fmi2FreeInstance`; an `fmi2FMUstate` likewise a
 //! `Box<FmuState>`. There are no globals: instances are independent.
 //!
@@ -25,7 +28,10 @@
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use crate::instance::{FmuState, Instance, Status};
+use crate::instance::{FmuState, Instance, Phase, Status, GET_PHASES, LIVE_PHASES};
+
+/// The phases in which the `fmi2Get*Status` functions answer.
+const STATUS_PHASES: &[Phase] = &[Phase::StepMode, Phase::Terminated];
 use crate::variables::{guid, Kind};
 
 type Component = *mut c_void;
@@ -104,27 +110,54 @@ fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "unknown panic".into())
 }
 
-/// Runs `f` on the instance behind `c`: `fmi2Error` for a null component, a caught panic is logged
-/// and returned as `fmi2Error`.
+/// Runs `f` on the instance behind `c` unless the instance is in its error state (then the call is
+/// refused with the reason): see [`with_instance_in_any_state`].
 fn with_instance(c: Component, what: &str, f: impl FnOnce(&mut Instance) -> Status) -> c_int {
+    with_instance_in_any_state(c, what, |inst| match inst.check_phase(what, LIVE_PHASES) {
+        Ok(()) => f(inst),
+        Err(status) => status,
+    })
+}
+
+/// Runs `f` on the instance behind `c` in whatever phase it is: `fmi2Error` for a null component; a
+/// caught panic is logged, returned as `fmi2Error` and puts the instance into its error state.
+fn with_instance_in_any_state(c: Component, what: &str, f: impl FnOnce(&mut Instance) -> Status) -> c_int {
     if c.is_null() {
         return Status::Error as c_int;
     }
     let ptr = c.cast::<Instance>();
     // SAFETY: a non-null component is a live `Box<Instance>` from fmi2Instantiate (the caller's
     // contract), used by one thread at a time; the borrow ends with the closure.
-    let result = catch_unwind(AssertUnwindSafe(|| f(unsafe { &mut *ptr })));
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        let inst = unsafe { &mut *ptr };
+        if let Some(message) = inst.test_panic.take() {
+            panic!("{message}");
+        }
+        f(inst)
+    }));
     match result {
         Ok(status) => status as c_int,
         Err(payload) => {
             let text = panic_text(payload.as_ref());
             // SAFETY: as above; the panicking borrow has ended.
-            let inst = unsafe { &*ptr };
+            let inst = unsafe { &mut *ptr };
+            inst.enter_error_state(format!("entered when {what} failed with an internal error: {text}"));
             let _ = catch_unwind(AssertUnwindSafe(|| {
-                inst.error(&format!("{what}: internal error: {text}"))
+                inst.error(&format!(
+                    "{what}: internal error: {text}; the instance is now in the error state, which only \
+                     fmi2Reset or fmi2FreeInstance leave"
+                ))
             }));
             Status::Error as c_int
         }
+    }
+}
+
+/// `Err(fmi2Error)`, logged, when an array of `n > 0` values is null.
+fn check_arrays(inst: &Instance, what: &str, n: usize, arrays: &[(&str, bool)]) -> Result<(), Status> {
+    match arrays.iter().find(|(_, null)| *null) {
+        Some((name, _)) if n > 0 => Err(inst.error(&format!("{what}: {name} is null with nvr = {n}"))),
+        _ => Ok(()),
     }
 }
 
@@ -262,22 +295,26 @@ pub unsafe extern "C" fn fmi2Terminate(c: Component) -> c_int {
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Reset(c: Component) -> c_int {
-    with_instance(c, "fmi2Reset", |inst| {
+    with_instance_in_any_state(c, "fmi2Reset", |inst| {
         inst.reset();
         Status::Ok
     })
 }
 
-/// Reads `nvr` values of `kind` and converts them with `convert` into `value`.
+/// Reads `nvr` values of `kind` and converts them with `convert` into `value` (`what`: the function).
 unsafe fn get_values<T>(
     c: Component,
+    what: &str,
     kind: Kind,
     vr: *const ValueReference,
     nvr: usize,
     value: *mut T,
     convert: impl Fn(f64) -> T,
 ) -> c_int {
-    with_instance(c, "fmi2Get", |inst| {
+    with_instance(c, what, |inst| {
+        if let Err(status) = check_arrays(inst, what, nvr, &[("vr", vr.is_null()), ("value", value.is_null())]) {
+            return status;
+        }
         // SAFETY: `vr` and `value` are arrays of `nvr` elements (FMI 2.0, 2.1.7).
         let (vrs, out) = unsafe { (slice(vr, nvr), slice_mut(value, nvr)) };
         let mut buffer = vec![0.0; nvr];
@@ -291,16 +328,20 @@ unsafe fn get_values<T>(
     })
 }
 
-/// Writes `nvr` values of `kind`, converted with `convert`.
+/// Writes `nvr` values of `kind`, converted with `convert` (`what`: the function).
 unsafe fn set_values<T: Copy>(
     c: Component,
+    what: &str,
     kind: Kind,
     vr: *const ValueReference,
     nvr: usize,
     value: *const T,
     convert: impl Fn(T) -> f64,
 ) -> c_int {
-    with_instance(c, "fmi2Set", |inst| {
+    with_instance(c, what, |inst| {
+        if let Err(status) = check_arrays(inst, what, nvr, &[("vr", vr.is_null()), ("value", value.is_null())]) {
+            return status;
+        }
         // SAFETY: `vr` and `value` are arrays of `nvr` elements (FMI 2.0, 2.1.7).
         let (vrs, values) = unsafe { (slice(vr, nvr), slice(value, nvr)) };
         let values: Vec<f64> = values.iter().map(|&v| convert(v)).collect();
@@ -311,7 +352,7 @@ unsafe fn set_values<T: Copy>(
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetReal(c: Component, vr: *const ValueReference, nvr: usize, value: *mut Real) -> c_int {
     // SAFETY: forwarded caller contract.
-    unsafe { get_values(c, Kind::Real, vr, nvr, value, |v| v) }
+    unsafe { get_values(c, "fmi2GetReal", Kind::Real, vr, nvr, value, |v| v) }
 }
 
 #[no_mangle]
@@ -322,7 +363,7 @@ pub unsafe extern "C" fn fmi2GetInteger(
     value: *mut Integer,
 ) -> c_int {
     // SAFETY: forwarded caller contract.
-    unsafe { get_values(c, Kind::Integer, vr, nvr, value, |v| v as Integer) }
+    unsafe { get_values(c, "fmi2GetInteger", Kind::Integer, vr, nvr, value, |v| v as Integer) }
 }
 
 #[no_mangle]
@@ -333,26 +374,37 @@ pub unsafe extern "C" fn fmi2GetBoolean(
     value: *mut Boolean,
 ) -> c_int {
     // SAFETY: forwarded caller contract.
-    unsafe { get_values(c, Kind::Boolean, vr, nvr, value, |v| Boolean::from(v != 0.0)) }
+    unsafe {
+        get_values(c, "fmi2GetBoolean", Kind::Boolean, vr, nvr, value, |v| {
+            Boolean::from(v != 0.0)
+        })
+    }
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetString(
     c: Component,
-    _vr: *const ValueReference,
+    vr: *const ValueReference,
     nvr: usize,
-    _value: *mut FmiString,
+    value: *mut FmiString,
 ) -> c_int {
-    with_instance(c, "fmi2GetString", |inst| match nvr {
-        0 => Status::Ok,
-        _ => inst.error("fmi2GetString: this FMU has no String variables"),
+    const WHAT: &str = "fmi2GetString";
+    with_instance(c, WHAT, |inst| {
+        let checked = inst
+            .check_phase(WHAT, GET_PHASES)
+            .and_then(|()| check_arrays(inst, WHAT, nvr, &[("vr", vr.is_null()), ("value", value.is_null())]));
+        match (checked, nvr) {
+            (Err(status), _) => status,
+            (Ok(()), 0) => Status::Ok,
+            (Ok(()), _) => inst.error("fmi2GetString: this FMU has no String variables"),
+        }
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetReal(c: Component, vr: *const ValueReference, nvr: usize, value: *const Real) -> c_int {
     // SAFETY: forwarded caller contract.
-    unsafe { set_values(c, Kind::Real, vr, nvr, value, |v| v) }
+    unsafe { set_values(c, "fmi2SetReal", Kind::Real, vr, nvr, value, |v| v) }
 }
 
 #[no_mangle]
@@ -363,7 +415,7 @@ pub unsafe extern "C" fn fmi2SetInteger(
     value: *const Integer,
 ) -> c_int {
     // SAFETY: forwarded caller contract.
-    unsafe { set_values(c, Kind::Integer, vr, nvr, value, f64::from) }
+    unsafe { set_values(c, "fmi2SetInteger", Kind::Integer, vr, nvr, value, f64::from) }
 }
 
 #[no_mangle]
@@ -374,19 +426,30 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     value: *const Boolean,
 ) -> c_int {
     // SAFETY: forwarded caller contract.
-    unsafe { set_values(c, Kind::Boolean, vr, nvr, value, |v| f64::from(u8::from(v != 0))) }
+    unsafe {
+        set_values(c, "fmi2SetBoolean", Kind::Boolean, vr, nvr, value, |v| {
+            f64::from(u8::from(v != 0))
+        })
+    }
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetString(
     c: Component,
-    _vr: *const ValueReference,
+    vr: *const ValueReference,
     nvr: usize,
-    _value: *const FmiString,
+    value: *const FmiString,
 ) -> c_int {
-    with_instance(c, "fmi2SetString", |inst| match nvr {
-        0 => Status::Ok,
-        _ => inst.error("fmi2SetString: this FMU has no String variables"),
+    const WHAT: &str = "fmi2SetString";
+    with_instance(c, WHAT, |inst| {
+        let checked = inst
+            .check_phase(WHAT, crate::instance::SET_PHASES)
+            .and_then(|()| check_arrays(inst, WHAT, nvr, &[("vr", vr.is_null()), ("value", value.is_null())]));
+        match (checked, nvr) {
+            (Err(status), _) => status,
+            (Ok(()), 0) => Status::Ok,
+            (Ok(()), _) => inst.error("fmi2SetString: this FMU has no String variables"),
+        }
     })
 }
 
@@ -436,7 +499,8 @@ pub unsafe extern "C" fn fmi2SetFMUstate(c: Component, state: FmuStatePtr) -> c_
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeFMUstate(c: Component, state: *mut FmuStatePtr) -> c_int {
-    with_instance(c, "fmi2FreeFMUstate", |_| {
+    // allowed in the error state too: it only releases the master's memory
+    with_instance_in_any_state(c, "fmi2FreeFMUstate", |_| {
         // SAFETY: `state` is null or the slot of a state of ours, freed once (then nulled).
         unsafe {
             if !state.is_null() && !(*state).is_null() {
@@ -573,12 +637,20 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetStatus(c: Component, _kind: c_int, _value: *mut c_int) -> c_int {
     // fmi2DoStep never returns fmi2Pending, so there is no asynchronous status to ask for
-    with_instance(c, "fmi2GetStatus", |_| Status::Discard)
+    with_instance(c, "fmi2GetStatus", |inst| {
+        match inst.check_phase("fmi2GetStatus", STATUS_PHASES) {
+            Ok(()) => Status::Discard,
+            Err(status) => status,
+        }
+    })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetRealStatus(c: Component, kind: c_int, value: *mut Real) -> c_int {
     with_instance(c, "fmi2GetRealStatus", |inst| {
+        if let Err(status) = inst.check_phase("fmi2GetRealStatus", STATUS_PHASES) {
+            return status;
+        }
         if kind != FMI2_LAST_SUCCESSFUL_TIME || value.is_null() {
             return Status::Discard;
         }
@@ -590,12 +662,20 @@ pub unsafe extern "C" fn fmi2GetRealStatus(c: Component, kind: c_int, value: *mu
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetIntegerStatus(c: Component, _kind: c_int, _value: *mut Integer) -> c_int {
-    with_instance(c, "fmi2GetIntegerStatus", |_| Status::Discard)
+    with_instance(c, "fmi2GetIntegerStatus", |inst| {
+        match inst.check_phase("fmi2GetIntegerStatus", STATUS_PHASES) {
+            Ok(()) => Status::Discard,
+            Err(status) => status,
+        }
+    })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetBooleanStatus(c: Component, kind: c_int, value: *mut Boolean) -> c_int {
-    with_instance(c, "fmi2GetBooleanStatus", |_| {
+    with_instance(c, "fmi2GetBooleanStatus", |inst| {
+        if let Err(status) = inst.check_phase("fmi2GetBooleanStatus", STATUS_PHASES) {
+            return status;
+        }
         if kind != FMI2_TERMINATED || value.is_null() {
             return Status::Discard;
         }
@@ -607,7 +687,12 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(c: Component, kind: c_int, value: 
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetStringStatus(c: Component, _kind: c_int, _value: *mut FmiString) -> c_int {
-    with_instance(c, "fmi2GetStringStatus", |_| Status::Discard)
+    with_instance(c, "fmi2GetStringStatus", |inst| {
+        match inst.check_phase("fmi2GetStringStatus", STATUS_PHASES) {
+            Ok(()) => Status::Discard,
+            Err(status) => status,
+        }
+    })
 }
 
 /// The Model Exchange functions: present so that the library loads in every importer, refused.

@@ -7,17 +7,24 @@
 //!   stepper ([`Instance::config`]). The simulation is built when first needed (an output read in
 //!   initialisation mode, or `fmi2ExitInitializationMode`) and built again if a parameter changed
 //!   meanwhile; an invalid parameter fails there with the configuration's message naming the key.
+//! * **The state machine** ([`Phase`]): every call checks that the FMI 2.0 Co-Simulation state
+//!   machine allows it in the current phase; a call it forbids returns `fmi2Error` with a logged
+//!   message naming the function and the phase, and changes nothing. A panic caught at the C
+//!   boundary puts the instance into [`Phase::Error`], which only `fmi2Reset` and
+//!   `fmi2FreeInstance` leave (the panic may have left the state half-updated).
 //! * **`doStep(t, h)`**: the master's `t` is accepted when it is within 1e-6 (relative, at least
 //!   1e-6 s absolute) of the FMU's time; the FMU keeps its own clock. `h = 0` refreshes the outputs.
-//!   Otherwise `h` is split into `n = ⌈h / max_internal_step⌉` equal internal steps, so with
-//!   `h = max_internal_step` it is one `Simulation::step(h)`, bit for bit the CLI's step (a master's
-//!   rounding of `h` is absorbed: [`Instance::internal_steps`]). A failed
+//!   Otherwise `h` is split into internal steps by [`split::internal_steps`] (the rule the Python
+//!   package uses too): `n = ⌈h / max_internal_step⌉` equal steps, so with `h = max_internal_step`
+//!   it is one `Simulation::step(h)`, bit for bit the CLI's step, a master's rounding of `h`
+//!   absorbed, and a step that would take more than [`split::MAX_INTERNAL_STEPS`] refused. A failed
 //!   internal step leaves the state as it was before the whole `doStep` (a snapshot taken before a
 //!   multi-step `doStep` is restored; a single step is rolled back by the stepper itself).
-//! * **FMU states** ([`FmuState`]) are a [`Snapshot`] plus the held input and the impact flag
-//!   (the impact count is the stepper's, in the snapshot); serialised as the snapshot's bytes
-//!   behind a small header ([`FmuState::to_bytes`]).
+//! * **FMU states** ([`FmuState`]) are a [`Snapshot`] plus the held input, the impact flag, the
+//!   last internal step and the start time (the impact count is the stepper's, in the snapshot);
+//!   serialised behind a small header, all of it under one checksum ([`FmuState::to_bytes`]).
 
+use pendulum_fem::simulation::split;
 use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot};
 
 use crate::contact::contact_outputs;
@@ -52,7 +59,38 @@ pub enum Phase {
     StepMode,
     /// After `fmi2Terminate`.
     Terminated,
+    /// After a caught panic ([`Instance::enter_error_state`]): only `fmi2Reset` and
+    /// `fmi2FreeInstance` are allowed.
+    Error,
 }
+
+impl Phase {
+    /// The phase as messages name it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Instantiated => "instantiated",
+            Self::Initialization => "initialization mode",
+            Self::StepMode => "step mode",
+            Self::Terminated => "terminated",
+            Self::Error => "error",
+        }
+    }
+}
+
+/// The phases in which values can be read (`fmi2Get*`).
+pub const GET_PHASES: &[Phase] = &[Phase::Initialization, Phase::StepMode, Phase::Terminated];
+
+/// The phases in which some values can be set (`fmi2Set*`): parameters before
+/// `fmi2ExitInitializationMode`, the input until `fmi2Terminate`.
+pub const SET_PHASES: &[Phase] = &[Phase::Instantiated, Phase::Initialization, Phase::StepMode];
+
+/// Every phase but [`Phase::Error`].
+pub const LIVE_PHASES: &[Phase] = &[
+    Phase::Instantiated,
+    Phase::Initialization,
+    Phase::StepMode,
+    Phase::Terminated,
+];
 
 /// Receives log messages: `(status, category, message)`.
 pub type LogSink = Box<dyn Fn(Status, &str, &str)>;
@@ -68,43 +106,96 @@ pub struct FmuState {
     pub impact: bool,
     /// The internal step of the last `doStep` \[s\] (it decides the next one's rounding).
     pub last_internal_step: Option<f64>,
+    /// `startTime` of `fmi2SetupExperiment` \[s\]: the FMU time is this plus the snapshot's.
+    pub start_time: f64,
 }
 
-const STATE_MAGIC: &[u8; 8] = b"PFEMFMU2";
+const STATE_MAGIC: &[u8; 8] = b"PFEMFMU3";
+
+/// Bytes before the snapshot: magic, `tau`, `impact`, last internal step, start time.
+const STATE_HEAD: usize = 8 + 8 + 1 + 8 + 8;
+
+/// 64-bit FNV-1a, the checksum of a serialized FMU state.
+fn checksum(bytes: &[u8]) -> u64 {
+    crate::variables::fnv1a(bytes, 0xcbf2_9ce4_8422_2325)
+}
 
 impl FmuState {
-    /// `"PFEMFMU2"`, `tau` (f64 bits), `impact` (u8), the last internal
-    /// step (f64 bits; NaN for none), then [`Snapshot::to_bytes`] (which carries its own checksum);
-    /// little-endian.
+    /// Little-endian:
+    ///
+    /// ```text
+    /// "PFEMFMU3"  magic (8 bytes)
+    /// f64         tau (IEEE bits)
+    /// u8          impact (0/1)
+    /// f64         the last internal step (NaN for none)
+    /// f64         start time
+    /// …           Snapshot::to_bytes (with its own checksum)
+    /// u64         FNV-1a of every byte before it
+    /// ```
+    ///
+    /// The checksum covers the header too: a flipped bit anywhere is refused by
+    /// [`FmuState::from_bytes`].
     pub fn to_bytes(&self) -> Vec<u8> {
         let mut b = STATE_MAGIC.to_vec();
         b.extend_from_slice(&self.tau.to_bits().to_le_bytes());
         b.push(u8::from(self.impact));
         let last = self.last_internal_step.unwrap_or(f64::NAN);
         b.extend_from_slice(&last.to_bits().to_le_bytes());
+        b.extend_from_slice(&self.start_time.to_bits().to_le_bytes());
         b.extend_from_slice(&self.snapshot.to_bytes());
+        let sum = checksum(&b);
+        b.extend_from_slice(&sum.to_le_bytes());
         b
     }
 
-    /// Reads [`FmuState::to_bytes`]; a damaged or foreign buffer is an error.
+    /// Reads [`FmuState::to_bytes`]; a damaged, truncated or foreign buffer is an error.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, Error> {
-        const HEAD: usize = 8 + 8 + 1 + 8;
-        if bytes.len() < HEAD || &bytes[..8] != STATE_MAGIC {
-            return Err(Error::Input(format!(
-                "serialized FMU state: {} bytes without the PFEMFMU2 header (not made by this FMU)",
+        let refuse = |why: String| {
+            Err(Error::Input(format!(
+                "serialized FMU state of {} bytes: {why}",
                 bytes.len()
-            )));
+            )))
+        };
+        if bytes.len() < 8 || &bytes[..8] != STATE_MAGIC {
+            let older = bytes.len() >= 8 && bytes.starts_with(b"PFEMFMU");
+            return refuse(if older {
+                format!(
+                    "format {} of another version of this FMU; this one reads {}",
+                    String::from_utf8_lossy(&bytes[..8]),
+                    String::from_utf8_lossy(STATE_MAGIC)
+                )
+            } else {
+                "it does not start with PFEMFMU3 (not made by this FMU)".into()
+            });
         }
-        let tau = f64::from_bits(u64::from_le_bytes(bytes[8..16].try_into().expect("8 bytes")));
-        let impact = bytes[16] != 0;
-        let last = f64::from_bits(u64::from_le_bytes(bytes[17..25].try_into().expect("8 bytes")));
-        let last_internal_step = (!last.is_nan()).then_some(last);
-        let snapshot = Snapshot::from_bytes(&bytes[HEAD..], "serialized FMU state")?;
+        if bytes.len() < STATE_HEAD + 8 {
+            return refuse("truncated".into());
+        }
+        let (body, sum) = bytes.split_at(bytes.len() - 8);
+        if checksum(body) != u64::from_le_bytes(sum.try_into().expect("8 bytes")) {
+            return refuse("damaged (its checksum does not match its bytes)".into());
+        }
+        let f64_at = |i: usize| f64::from_bits(u64::from_le_bytes(body[i..i + 8].try_into().expect("8 bytes")));
+        let tau = f64_at(8);
+        let impact = match body[16] {
+            0 => false,
+            1 => true,
+            other => return refuse(format!("impact flag {other}, allowed 0 or 1")),
+        };
+        let last = f64_at(17);
+        let start_time = f64_at(25);
+        if !tau.is_finite() || !start_time.is_finite() || !(last.is_nan() || (last.is_finite() && last > 0.0)) {
+            return refuse(format!(
+                "tau = {tau}, last internal step = {last}, start time = {start_time}: not a state of this FMU"
+            ));
+        }
+        let snapshot = Snapshot::from_bytes(&body[STATE_HEAD..], "serialized FMU state")?;
         Ok(Self {
             snapshot,
             tau,
             impact,
-            last_internal_step,
+            last_internal_step: (!last.is_nan()).then_some(last),
+            start_time,
         })
     }
 }
@@ -128,18 +219,18 @@ pub struct Instance {
     start_time: f64,
     /// An impact started during the last step.
     impact: bool,
-    /// The internal step of the last `doStep` \[s\] (see [`Instance::internal_steps`]).
+    /// The internal step of the last `doStep` \[s\] (see [`split::internal_steps`]).
     last_internal_step: Option<f64>,
     /// Outputs computed for the current state, by [`Output`] as index.
     cache: [Option<f64>; OUTPUTS],
+    /// Why the instance is in [`Phase::Error`].
+    failure: Option<String>,
+    /// A panic the next C call raises ([`Instance::panic_on_next_call`], tests only).
+    pub(crate) test_panic: Option<String>,
 }
 
 /// The number of [`Output`]s.
 const OUTPUTS: usize = 8;
-
-/// Relative distance below which a communication step counts as a multiple of
-/// `max_internal_step`, or an internal step as the previous one ([`Instance::internal_steps`]).
-pub const STEP_SNAP: f64 = 1e-9;
 
 /// Relative tolerance between the master's communication point and the FMU's time.
 pub const TIME_TOLERANCE: f64 = 1e-6;
@@ -159,7 +250,44 @@ impl Instance {
             impact: false,
             last_internal_step: None,
             cache: [None; OUTPUTS],
+            failure: None,
+            test_panic: None,
         }
+    }
+
+    /// `Ok` when `function` is allowed in the current phase (one of `allowed`); otherwise logs an
+    /// error naming the function and the phase (and, in [`Phase::Error`], why the instance is
+    /// there) and returns [`Status::Error`].
+    pub fn check_phase(&self, function: &str, allowed: &[Phase]) -> Result<(), Status> {
+        if allowed.contains(&self.phase) {
+            return Ok(());
+        }
+        if self.phase == Phase::Error {
+            let why = self.failure.as_deref().unwrap_or("an earlier call failed");
+            return Err(self.error(&format!(
+                "{function}: not allowed in the error state ({why}); only fmi2Reset or fmi2FreeInstance leave it"
+            )));
+        }
+        let names: Vec<&str> = allowed.iter().map(|p| p.name()).collect();
+        Err(self.error(&format!(
+            "{function}: not allowed in the {} state (allowed in: {})",
+            self.phase.name(),
+            names.join(", ")
+        )))
+    }
+
+    /// Puts the instance into [`Phase::Error`] for `reason` (a caught panic): every call but
+    /// `fmi2Reset` and `fmi2FreeInstance` is refused from now on, with `reason` in the message.
+    pub fn enter_error_state(&mut self, reason: String) {
+        self.phase = Phase::Error;
+        self.failure = Some(reason);
+    }
+
+    /// Makes the next C call on this instance panic with `message` inside the panic guard (tests
+    /// of the error state; nothing in the C interface sets it).
+    #[doc(hidden)]
+    pub fn panic_on_next_call(&mut self, message: &str) {
+        self.test_panic = Some(message.to_string());
     }
 
     /// Logs an error (always) and returns [`Status::Error`].
@@ -189,7 +317,8 @@ impl Instance {
         self.start_time + self.sim.as_ref().map_or(0.0, Simulation::time)
     }
 
-    /// Back to the instantiated state with the start values (`fmi2Reset`).
+    /// Back to the instantiated state with the start values (`fmi2Reset`; allowed in every phase,
+    /// [`Phase::Error`] included).
     pub fn reset(&mut self) {
         let (name, logging_on) = (std::mem::take(&mut self.name), self.logging_on);
         let log = std::mem::replace(&mut self.log, Box::new(|_, _, _| {}));
@@ -198,8 +327,8 @@ impl Instance {
 
     /// `fmi2SetupExperiment`: the start time (tolerance and stop time are not used).
     pub fn setup_experiment(&mut self, start_time: f64) -> Status {
-        if self.phase != Phase::Instantiated {
-            return self.error("fmi2SetupExperiment: allowed only after fmi2Instantiate or fmi2Reset");
+        if let Err(status) = self.check_phase("fmi2SetupExperiment", &[Phase::Instantiated]) {
+            return status;
         }
         if !start_time.is_finite() {
             return self.error(&format!("fmi2SetupExperiment: startTime = {start_time} is not finite"));
@@ -210,8 +339,8 @@ impl Instance {
 
     /// `fmi2EnterInitializationMode`.
     pub fn enter_initialization(&mut self) -> Status {
-        if self.phase != Phase::Instantiated {
-            return self.error("fmi2EnterInitializationMode: allowed only once, after fmi2Instantiate");
+        if let Err(status) = self.check_phase("fmi2EnterInitializationMode", &[Phase::Instantiated]) {
+            return status;
         }
         self.phase = Phase::Initialization;
         Status::Ok
@@ -219,8 +348,8 @@ impl Instance {
 
     /// `fmi2ExitInitializationMode`: builds the simulation; invalid parameters are reported here.
     pub fn exit_initialization(&mut self) -> Status {
-        if self.phase != Phase::Initialization {
-            return self.error("fmi2ExitInitializationMode: not in initialization mode");
+        if let Err(status) = self.check_phase("fmi2ExitInitializationMode", &[Phase::Initialization]) {
+            return status;
         }
         if let Err(status) = self.ensure_sim() {
             return status;
@@ -229,8 +358,12 @@ impl Instance {
         Status::Ok
     }
 
-    /// `fmi2Terminate`.
+    /// `fmi2Terminate`: from step mode only (FMI 2.0 allows it after a step, not before
+    /// initialisation, nor twice).
     pub fn terminate(&mut self) -> Status {
+        if let Err(status) = self.check_phase("fmi2Terminate", &[Phase::StepMode]) {
+            return status;
+        }
         self.phase = Phase::Terminated;
         Status::Ok
     }
@@ -318,19 +451,30 @@ impl Instance {
         }
     }
 
-    /// Sets values by value reference (`fmi2SetReal`, `…Integer`, `…Boolean`).
+    /// Sets values by value reference (`fmi2SetReal`, `…Integer`, `…Boolean`): parameters in the
+    /// instantiated state and initialization mode, the input `tau` until `fmi2Terminate`.
     pub fn set(&mut self, kind: Kind, vrs: &[u32], values: &[f64]) -> Status {
+        let function = match kind {
+            Kind::Real => "fmi2SetReal",
+            Kind::Integer => "fmi2SetInteger",
+            Kind::Boolean => "fmi2SetBoolean",
+        };
+        if let Err(status) = self.check_phase(function, SET_PHASES) {
+            return status;
+        }
         self.invalidate();
         for (&vr, &value) in vrs.iter().zip(values) {
             let Some((i, v)) = crate::variables::lookup(vr, kind) else {
-                return self.error(&format!("set: no {kind:?} variable with value reference {vr}"));
+                return self.error(&format!("{function}: no {kind:?} variable with value reference {vr}"));
             };
             match v.causality {
-                Causality::Output => return self.error(&format!("set: {} is an output", v.name)),
+                Causality::Output => return self.error(&format!("{function}: {} is an output", v.name)),
                 Causality::Parameter if !matches!(self.phase, Phase::Instantiated | Phase::Initialization) => {
                     return self.error(&format!(
-                        "set: {} is a fixed parameter; set it before fmi2ExitInitializationMode",
-                        v.name
+                        "{function}: {} is a fixed parameter, not settable in the {} state; set it before \
+                         fmi2ExitInitializationMode",
+                        v.name,
+                        self.phase.name()
                     ));
                 }
                 Causality::Parameter => {
@@ -341,14 +485,14 @@ impl Instance {
                 }
                 Causality::Input => {
                     if !value.is_finite() {
-                        return self.error(&format!("set: {} = {value} is not finite", v.name));
+                        return self.error(&format!("{function}: {} = {value} is not finite", v.name));
                     }
                     let changed = self.values[i].to_bits() != value.to_bits();
                     self.values[i] = value;
                     if let (true, Some(sim), false) = (changed, self.sim.as_mut(), self.stale) {
                         if let Err(e) = sim.set_torque(value) {
                             let t = self.time();
-                            return self.error(&format!("set: tau = {value} N.m at t = {t} s: {e}"));
+                            return self.error(&format!("{function}: tau = {value} N.m at t = {t} s: {e}"));
                         }
                     }
                 }
@@ -357,11 +501,20 @@ impl Instance {
         Status::Ok
     }
 
-    /// Reads values by value reference (`fmi2GetReal`, `…Integer`, `…Boolean`) into `out`.
+    /// Reads values by value reference (`fmi2GetReal`, `…Integer`, `…Boolean`) into `out`: from
+    /// initialization mode on (FMI 2.0 does not allow it in the instantiated state).
     pub fn get(&mut self, kind: Kind, vrs: &[u32], out: &mut [f64]) -> Status {
+        let function = match kind {
+            Kind::Real => "fmi2GetReal",
+            Kind::Integer => "fmi2GetInteger",
+            Kind::Boolean => "fmi2GetBoolean",
+        };
+        if let Err(status) = self.check_phase(function, GET_PHASES) {
+            return status;
+        }
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
             let Some((i, v)) = crate::variables::lookup(vr, kind) else {
-                return self.error(&format!("get: no {kind:?} variable with value reference {vr}"));
+                return self.error(&format!("{function}: no {kind:?} variable with value reference {vr}"));
             };
             *slot = match v.role {
                 Role::Output(which) => match self.output(which) {
@@ -380,9 +533,6 @@ impl Instance {
     fn output(&mut self, which: Output) -> Result<f64, Status> {
         if let Some(value) = self.cache[which as usize] {
             return Ok(value);
-        }
-        if self.phase == Phase::Instantiated {
-            return Err(self.error("get: outputs are available from fmi2EnterInitializationMode on"));
         }
         self.ensure_sim()?;
         let impact = self.impact;
@@ -414,13 +564,13 @@ impl Instance {
 
     /// `fmi2DoStep(t, h)` (see the module doc).
     pub fn do_step(&mut self, t: f64, h: f64) -> Status {
-        if self.phase != Phase::StepMode {
-            return self.error("fmi2DoStep: call fmi2ExitInitializationMode first");
+        if let Err(status) = self.check_phase("fmi2DoStep", &[Phase::StepMode]) {
+            return status;
         }
         let now = self.time();
         if !(h >= 0.0 && h.is_finite()) {
             return self.error(&format!(
-                "fmi2DoStep at t = {now} s: communicationStepSize = {h} s must be >= 0"
+                "fmi2DoStep at t = {now} s: communicationStepSize = {h} s; allowed a finite value >= 0 s"
             ));
         }
         // NaN is never within
@@ -434,7 +584,11 @@ impl Instance {
             // an output refresh: outputs are computed on request from the current state
             return Status::Ok;
         }
-        let (n, sub) = self.internal_steps(h);
+        let max_step = self.value_of(Role::MaxInternalStep);
+        let (n, sub) = match split::internal_steps(h, max_step, self.last_internal_step) {
+            Ok(split) => split,
+            Err(e) => return self.error(&format!("fmi2DoStep from t = {now} s by h = {h} s refused: {e}")),
+        };
         let sim = self.sim.as_mut().expect("built at exitInitializationMode");
         let before = (n > 1).then(|| sim.snapshot());
         let impacts_before = sim.impacts();
@@ -457,30 +611,9 @@ impl Instance {
         Status::Ok
     }
 
-    /// How `doStep` splits a communication step `h > 0`: `n = ⌈h / max_internal_step⌉` internal
-    /// steps of `h / n`. Masters compute `h` as a difference of communication points, which carries
-    /// rounding (fmpy: `(k + 1)·0.01 − k·0.01`); so that the internal steps are those of the CLI and
-    /// the stepper's clock stays on its grid (`t = k·dt`, computed, not accumulated), an `h` within
-    /// [`STEP_SNAP`] (relative) of `n·max_internal_step` is taken as `n` steps of exactly
-    /// `max_internal_step`, and an internal step within [`STEP_SNAP`] of the previous `doStep`'s as
-    /// that one. The time advanced then differs from `h` by that rounding only.
-    pub fn internal_steps(&self, h: f64) -> (u64, f64) {
-        let max = self.value_of(Role::MaxInternalStep);
-        let ratio = h / max;
-        let nearest = ratio.round();
-        if nearest >= 1.0 && (ratio - nearest).abs() <= STEP_SNAP * ratio {
-            return (nearest as u64, max);
-        }
-        let n = ratio.ceil().max(1.0) as u64;
-        let sub = if n == 1 { h } else { h / n as f64 };
-        match self.last_internal_step {
-            Some(last) if (sub - last).abs() <= STEP_SNAP * last => (n, last),
-            _ => (n, sub),
-        }
-    }
-
     /// The state for `fmi2GetFMUstate`.
     pub fn get_state(&self) -> Result<FmuState, Status> {
+        self.check_phase("fmi2GetFMUstate", LIVE_PHASES)?;
         let Some(sim) = self.sim.as_ref().filter(|_| !self.stale) else {
             return Err(self.error("fmi2GetFMUstate: the model is not built yet (after fmi2ExitInitializationMode)"));
         };
@@ -489,11 +622,16 @@ impl Instance {
             tau: self.value_of(Role::Tau),
             impact: self.impact,
             last_internal_step: self.last_internal_step,
+            start_time: self.start_time,
         })
     }
 
-    /// `fmi2SetFMUstate`: a state of this model (same parameters) only.
+    /// `fmi2SetFMUstate`: a state of this model (same parameters) only. The phase stays (FMI 2.0:
+    /// setting a state is no transition; in the instantiated state the master still initialises).
     pub fn set_state(&mut self, state: &FmuState) -> Status {
+        if let Err(status) = self.check_phase("fmi2SetFMUstate", LIVE_PHASES) {
+            return status;
+        }
         if let Err(status) = self.ensure_sim() {
             return status;
         }
@@ -505,10 +643,8 @@ impl Instance {
         self.values[tau] = state.tau;
         self.impact = state.impact;
         self.last_internal_step = state.last_internal_step;
+        self.start_time = state.start_time;
         self.invalidate();
-        if self.phase == Phase::Instantiated || self.phase == Phase::Initialization {
-            self.phase = Phase::StepMode;
-        }
         Status::Ok
     }
 

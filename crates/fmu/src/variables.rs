@@ -552,7 +552,9 @@ pub fn guid() -> String {
     )
 }
 
-fn fnv1a(bytes: &[u8], seed: u64) -> u64 {
+/// 64-bit FNV-1a of `bytes` continued from `seed` (the offset basis `0xcbf2_9ce4_8422_2325` starts
+/// a new hash).
+pub(crate) fn fnv1a(bytes: &[u8], seed: u64) -> u64 {
     bytes
         .iter()
         .fold(seed, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3))
