@@ -78,7 +78,7 @@ fn metrics_from_csv(run: &Path, cfg: &Config) -> [Option<f64>; 8] {
     let (names, rows) = pendulum_fem::io::csv::read_numeric_csv(&run.join("results.csv")).unwrap();
     let col = |n: &str| names.iter().position(|c| c == n).unwrap();
     let model = Model::new(cfg, mesh::generate(cfg).unwrap()).unwrap();
-    let mut audit = EnergyAudit::new(EnergyAudit::floor_of(&model));
+    let mut audit = EnergyAudit::of(&model);
     let mut period = PeriodEstimator::default();
     let (mut lo, mut hi, mut vm, mut its) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64, 0.0);
     for (step, r) in rows.iter().enumerate() {

@@ -14,6 +14,9 @@ pub enum NewtonError {
         energy_norm: f64,
         /// Last residual norm \[N\].
         residual: f64,
+        /// The forces in play at the last iterate: the largest nodal sum of the magnitudes of the
+        /// terms' forces and the hinge reaction \[N\] (see [`crate::newton::FORCE_ROUNDING`]).
+        forces: f64,
     },
     /// The tangent could not be factorised (not positive definite).
     SingularTangent {
@@ -37,15 +40,27 @@ pub enum NewtonError {
 impl fmt::Display for NewtonError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::MaxIterations { iterations, energy_norm, residual } => write!(
+            Self::MaxIterations {
+                iterations,
+                energy_norm,
+                residual,
+                forces,
+            } => write!(
                 f,
-                "Newton did not converge in {iterations} iterations (energy norm {energy_norm:.3e} J, residual {residual:.3e} N)"
+                "Newton did not converge in {iterations} iterations (energy norm {energy_norm:.3e} J, residual \
+                 {residual:.3e} N of forces in play {forces:.3e} N)"
             ),
             Self::SingularTangent { iteration } => {
-                write!(f, "tangent matrix not positive definite at Newton iteration {iteration}")
+                write!(
+                    f,
+                    "tangent matrix not positive definite at Newton iteration {iteration}"
+                )
             }
             Self::NonFinite { iteration } => {
-                write!(f, "non-finite energy or residual (inverted element) at Newton iteration {iteration}")
+                write!(
+                    f,
+                    "non-finite energy or residual (inverted element) at Newton iteration {iteration}"
+                )
             }
             Self::LineSearch { iteration, residual } => write!(
                 f,

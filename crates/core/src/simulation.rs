@@ -316,6 +316,21 @@ impl Model {
         self.config.material.density * self.config.geometry.thickness * self.projection.area
     }
 
+    /// The largest change of the pendulum's gravitational energy that its swing about the pivot
+    /// allows from the initial angle \[J\]: `m g (d + |h₀|)`, with `d` the distance of the centroid
+    /// from the pivot and `h₀` the centroid's initial height (the centroid moves on the circle of
+    /// radius `d`, between the heights `−d` and `d`); 0 without gravity. With the initial kinetic
+    /// energy and the torque's largest |work| it makes the energy a run has available, the scale of
+    /// its energy balance (the run driver's energy audit).
+    pub fn potential_range(&self) -> f64 {
+        let p = &self.projection;
+        let centroid = [p.first_moment[0] / p.area, p.first_moment[1] / p.area];
+        let d = centroid[0].hypot(centroid[1]);
+        let (s, c) = self.config.initial.angle_deg.to_radians().sin_cos();
+        let h0 = s * centroid[0] + c * centroid[1];
+        self.mass_kg() * self.config.gravity.g.abs() * (d + h0.abs())
+    }
+
     /// Moment of inertia of the pendulum about the pivot \[kg m²\].
     pub fn inertia_pivot(&self) -> f64 {
         self.config.material.density * self.config.geometry.thickness * self.projection.polar

@@ -256,6 +256,35 @@ impl RigidWall {
         }
     }
 
+    /// `∂ψ_d/∂g₁`, the derivative of the secant ([`RigidWall::secant`]) with respect to the gap
+    /// at the end of the step: `½ k` with both ends penetrating, 0 with both apart, and across the
+    /// face `(ψ'(g₁) − ψ_d)/(g₁ − g₀)`, which is `k a (a + 2b) / (2 (a + b)²)` entering
+    /// (`g₀ = b > 0`, `g₁ = −a`) and `k a² / (2 (a + b)²)` leaving (`g₀ = −a`, `g₁ = b`): never
+    /// negative, and far from the `k` of the end-point Hessian when the point just crosses.
+    fn secant_slope(&self, g0: f64, g1: f64) -> f64 {
+        let k = self.stiffness;
+        if g0 <= 0.0 && g1 <= 0.0 {
+            0.5 * k
+        } else if g0 >= 0.0 && g1 >= 0.0 {
+            0.0
+        } else {
+            (k * g1.min(0.0) - self.secant(g0, g1)) / (g1 - g0)
+        }
+    }
+
+    /// The face segment a point uses over a step (`Some(None)` for the rigid wall): the one at the
+    /// point's mid-step height, the same for both ends so that the secant is exact for the gap it
+    /// uses; `None` when the point is above or below the face at mid-step.
+    fn step_segment(&self, p: &ContactPoint, mid: &[f64]) -> Option<Option<usize>> {
+        let Some(face) = &self.face else {
+            return Some(None);
+        };
+        let y: f64 = (0..3)
+            .map(|a| p.basis[a] * (self.reference[p.nodes[a]][1] + mid[2 * p.nodes[a] + 1]))
+            .sum();
+        self.segment(face, y, mid, &self.reference).map(Some)
+    }
+
     /// The resultant in `+x` of the wall's force over a step from `u0` to `u1` as the scheme applies
     /// it (the secant, or the end-point force with [`RigidWall::end_point`]) \[N\]: its product with
     /// the step's length is the step's impulse.
@@ -376,6 +405,58 @@ impl Term for RigidWall {
         super::dense_block(&self.coupled)
     }
 
+    /// The Jacobian of the secant force over the step: `factor · w ∂ψ_d/∂g₁ ∇g ∇gᵀ` per point
+    /// ([`RigidWall::secant_slope`]; for the deformable face with the gap's gradient at the end of
+    /// the step, without the gap's own curvature). The Hessian at the end of the step, `k w ∇g ∇gᵀ`
+    /// of the penetrating points, is twice too stiff while both ends penetrate (`factor` = 2 puts
+    /// that right) and wrong across the face: a point that just enters gets `k` where the secant
+    /// is nearly flat, a point that leaves gets 0 where the secant still pushes; Newton then
+    /// contracts by only `1 − ∂ψ_d/∂g₁ / k` per iteration, or oscillates between penetrating and
+    /// apart.
+    fn add_discrete_hessian(
+        &self,
+        start: &StepStart,
+        u1: &[f64],
+        _cx: &StepContext,
+        factor: f64,
+        pattern: &Pattern,
+        values: &mut [f64],
+    ) -> bool {
+        if self.end_point {
+            return false;
+        }
+        let mid: Vec<f64> = match self.face {
+            Some(_) => start.u.iter().zip(u1).map(|(a, b)| 0.5 * (a + b)).collect(),
+            None => Vec::new(),
+        };
+        for p in &self.points {
+            let Some(seg) = self.step_segment(p, &mid) else {
+                continue;
+            };
+            let (Some(l0), Some(l1)) = (self.local(p, start.u, seg), self.local(p, u1, seg)) else {
+                continue;
+            };
+            let slope = self.secant_slope(l0.g, l1.g);
+            if slope == 0.0 {
+                continue;
+            }
+            let c = factor * p.weight * slope;
+            for i in 0..l1.n {
+                for j in 0..l1.n {
+                    let (r, col) = (l1.dofs[i], l1.dofs[j]);
+                    if r > col {
+                        continue;
+                    }
+                    match pattern.position(r, col) {
+                        Some(pos) => values[pos] += c * l1.grad[i] * l1.grad[j],
+                        None => debug_assert!(self.face.is_some(), "the nodes of an edge share an element"),
+                    }
+                }
+            }
+        }
+        true
+    }
+
     /// The secant of each point's energy along its gap (see the module doc).
     /// With [`RigidWall::end_point`], the gradient at `u1` instead.
     fn add_discrete_gradient(
@@ -391,19 +472,8 @@ impl Term for RigidWall {
             None => Vec::new(),
         };
         for p in &self.points {
-            // the face segment of the step: the one at the mid-step height (the same for both ends,
-            // so that the secant below is exact for the gap it uses)
-            let seg = match &self.face {
-                Some(face) => {
-                    let y: f64 = (0..3)
-                        .map(|a| p.basis[a] * (self.reference[p.nodes[a]][1] + mid[2 * p.nodes[a] + 1]))
-                        .sum();
-                    match self.segment(face, y, &mid, &self.reference) {
-                        Some(j) => Some(j),
-                        None => continue,
-                    }
-                }
-                None => None,
+            let Some(seg) = self.step_segment(p, &mid) else {
+                continue;
             };
             let (Some(l0), Some(l1)) = (self.local(p, start.u, seg), self.local(p, u1, seg)) else {
                 continue;

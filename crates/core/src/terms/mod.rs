@@ -89,6 +89,21 @@ pub trait Term: Send + Sync {
         Vec::new()
     }
 
+    /// `values += factor · ∂(∇ᵈΠ(u₀, u₁))/∂u₁`, the Jacobian of the discrete gradient, for a term
+    /// whose Hessian at `u₁` is a poor approximation of it (the contact's secant across the face);
+    /// returns whether it did. Default: `false`, and [`DiscreteGradient`] takes the Hessian at `u₁`.
+    fn add_discrete_hessian(
+        &self,
+        _start: &StepStart,
+        _u1: &[f64],
+        _cx: &StepContext,
+        _factor: f64,
+        _pattern: &Pattern,
+        _values: &mut [f64],
+    ) -> bool {
+        false
+    }
+
     /// `g += factor · ∇ᵈΠ(u₀, u₁)`, a discrete gradient over the step from `start` to `(u1, cx.t)`
     /// (see the module doc). Returns `+∞` for an inadmissible `u1`, otherwise a finite value:
     /// `Π(u1)` where that costs nothing extra, 0 where it would (the strain energy).
@@ -254,7 +269,8 @@ impl Term for Linear {
 
 /// A term's discrete gradient over one step as a term of the energy-momentum system
 /// ([`crate::energy_momentum`]): gradient `gradient_factor · ∇ᵈΠ(u₀, u)`, and as its approximate
-/// Jacobian `hessian_factor · ∇²Π(u)`. Its "energy" only flags inadmissible states (`+∞`): the
+/// Jacobian the term's own Jacobian of the discrete gradient where it has one
+/// ([`Term::add_discrete_hessian`]), otherwise `hessian_factor · ∇²Π(u)`. Its "energy" only flags inadmissible states (`+∞`): the
 /// energy-momentum system has no potential.
 pub struct DiscreteGradient<'a> {
     /// The term.
@@ -287,6 +303,12 @@ impl Term for DiscreteGradient<'_> {
     }
 
     fn add_hessian(&self, u: &[f64], cx: &StepContext, pattern: &Pattern, values: &mut [f64]) {
+        if self
+            .term
+            .add_discrete_hessian(&self.start, u, cx, self.gradient_factor, pattern, values)
+        {
+            return;
+        }
         if self.hessian_factor == 1.0 {
             self.term.add_hessian(u, cx, pattern, values);
         } else {
