@@ -169,3 +169,56 @@ fn a_restart_without_a_checkpoint_or_with_another_model_is_a_clear_error() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_restart_finds_the_same_model_through_a_relative_torque_table_and_the_deformable_wall_but_not_an_edited_table() {
+    // checkpoint.toml names the table by its absolute path; the fingerprint covers the table's
+    // values, not the path, and the deformable wall's block like the run itself
+    let dir = scratch("files");
+    let table = "time_s,torque_Nm\n0,0\n0.02,0.5\n1,0\n";
+    std::fs::write(dir.join("t.csv"), table).unwrap();
+    let sets = [
+        "--set",
+        "torque.profile=\"table\"",
+        "--set",
+        "torque.file=\"t.csv\"",
+        "--set",
+        "wall.kind=\"deformable\"",
+    ];
+    let in_dir = |args: &[&str], out: &str| {
+        let o = bin()
+            .args(["run", "--quiet"])
+            .args(LEAN)
+            .args(sets)
+            .args(args)
+            .args(["--out", out])
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "run {args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
+    in_dir(&["--set", "time.end=0.05"], "whole");
+    in_dir(&["--checkpoint-every", "2", "--set", "time.end=0.03"], "short");
+    // from another folder
+    let o = restart(&["--set", "time.end=0.05"], &dir.join("short"));
+    assert!(o.status.success(), "restart: {}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        read(dir.join("short/results.csv")) == read(dir.join("whole/results.csv")),
+        "results.csv differs"
+    );
+    std::fs::write(dir.join("t.csv"), table.replace("0.5", "0.51")).unwrap();
+    let o = restart(&["--set", "time.end=0.07"], &dir.join("short"));
+    let msg = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success()
+            && msg.contains("another model")
+            && msg.contains("the torque table")
+            && msg.contains("t.csv"),
+        "{msg}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

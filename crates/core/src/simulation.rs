@@ -52,7 +52,7 @@ mod stepper;
 
 pub use body::{Body, BodySpec};
 pub use impact::{ContactEvent, ContactEventKind};
-pub use snapshot::{fingerprint, Snapshot, SNAPSHOT_VERSION};
+pub use snapshot::{fingerprint, Fingerprint, Snapshot, SNAPSHOT_VERSION};
 pub use stepper::Energies;
 
 /// Relative equilibrium tolerance of a converged step: `‖∇Φ + Cᵀλ‖∞ ≤ 10⁻⁴ × load scale`, where the
@@ -110,9 +110,10 @@ pub struct Model {
     pub wall: Option<RigidWall>,
     /// Further terms, added by later stages.
     pub extra_terms: Vec<Box<dyn Term>>,
-    /// FNV-1a hash of the configuration (without `time.end` and `[output]`) and the mesh: a
-    /// [`Snapshot`] made for another model is refused ([`Simulation::restore`]).
-    pub fingerprint: u64,
+    /// FNV-1a hashes of the configuration's values (without `time.end`, `[output]` and file paths),
+    /// the mesh and the torque table as read: a [`Snapshot`] made for another model is refused
+    /// ([`Simulation::restore`]).
+    pub fingerprint: Fingerprint,
     /// Consistent mass matrix.
     pub mass: MassMatrix,
     /// The hinge.
@@ -195,14 +196,14 @@ impl Model {
                 Some(wall)
             }
         };
-        let mut fingerprint = snapshot::fingerprint(config, &mesh);
+        let mut fingerprint = snapshot::fingerprint(config, &mesh, torque.as_ref().and_then(|t| t.table.as_ref()));
         for spec in &others {
             // the other bodies' settings are not in the configuration
             let settings = format!(
                 "{:?} {} {} {:?}",
                 spec.material, spec.thickness, spec.gravity, spec.fixed
             );
-            fingerprint = snapshot::fnv1a(&[fingerprint.to_le_bytes().as_slice(), settings.as_bytes()].concat());
+            fingerprint.add_settings(settings.as_bytes());
         }
         let loads = torque
             .iter()

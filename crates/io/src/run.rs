@@ -155,13 +155,15 @@ pub fn run(opts: &RunOptions) -> Result<RunSummary, Error> {
         // refuse another model before anything in the folder is touched
         let bytes = std::fs::read(&snap).map_err(|e| Error::io(&snap, e))?;
         let snapshot = pendulum_fem_core::Snapshot::from_bytes(&bytes, &snap.display().to_string())?;
-        let model = crate::simulation::fingerprint(&opts.config, &mesh::generate(&opts.config)?);
-        if snapshot.fingerprint() != model {
+        // the model's own fingerprint (with its torque table and, with a deformable wall, the block)
+        let model = crate::simulation::Model::new(&opts.config, mesh::generate(&opts.config)?)?;
+        if let Some(parts) = snapshot.fingerprint().differences(&model.fingerprint, &opts.config) {
             return Err(Error::Input(format!(
-                "{}: made for another model (fingerprint {:016x}; this configuration and mesh give {model:016x}): \
-                 restart with the configuration of the run (only time.end and [output] may change)",
+                "{}: made for another model: {parts} (fingerprint {}; this configuration gives {}): restart with \
+                 the configuration of the run (only time.end and [output] may change)",
                 snap.display(),
-                snapshot.fingerprint()
+                snapshot.fingerprint(),
+                model.fingerprint
             )));
         }
         dir

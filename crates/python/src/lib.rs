@@ -596,6 +596,17 @@ fn event_columns() -> Vec<&'static str> {
     EVENTS_HEADER.split(',').collect()
 }
 
+/// `(n, step)`: a communication step `h` [s] as `n` internal steps of `step <= max_step` [s], by
+/// the FMU's rule ([`pendulum_fem::simulation::split::internal_steps`]): a multiple of `max_step`
+/// (to 1e-9 relative) takes steps of exactly `max_step`, other steps `ceil(h / max_step)` equal
+/// ones, reusing `last` (the previous call's internal step) when within 1e-9 of it. A bad value or
+/// more than a million internal steps is a `ValueError`.
+#[pyfunction]
+#[pyo3(signature = (h, max_step, last=None))]
+fn internal_steps(h: f64, max_step: f64, last: Option<f64>) -> PyResult<(u64, f64)> {
+    pendulum_fem::simulation::split::internal_steps(h, max_step, last).map_err(PyValueError::new_err)
+}
+
 mod study;
 
 /// The Rust extension module of the `pendulum_fem` package.
@@ -604,6 +615,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySimulation>()?;
     m.add_function(wrap_pyfunction!(csv_columns, m)?)?;
     m.add_function(wrap_pyfunction!(event_columns, m)?)?;
+    m.add_function(wrap_pyfunction!(internal_steps, m)?)?;
     m.add("ConvergenceError", m.py().get_type::<ConvergenceError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     study::register(m)?;

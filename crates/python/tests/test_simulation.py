@@ -1,5 +1,6 @@
 """The Python package: configuration, stepping, results, state and errors (issue 11, test 5)."""
 
+import os
 import pickle
 import subprocess
 import sys
@@ -75,6 +76,62 @@ def test_pickle_round_trip_is_bit_identical():
         sim.step(0.01)
         copy.step(0.01)
     assert np.array_equal(state_of(copy), state_of(sim))
+
+
+TORQUE_TABLE = "time_s,torque_Nm\n0,0\n0.03,0.4\n0.2,-0.1\n"
+
+
+def files_config(folder):
+    """A coarse pendulum mesh (the CLI's `mesh` command: mesh/mesh.msh) and a torque table
+    (torque.csv) in `folder`, and the configuration naming both by relative paths."""
+    cli = os.environ.get("PENDULUM_FEM_CLI")
+    assert cli, "PENDULUM_FEM_CLI is not set: run these tests through `cargo test --test python_package`"
+    subprocess.run(
+        [cli, "mesh", "--set", "mesh.refine=0.5", "--out", str(folder / "mesh")], check=True, capture_output=True
+    )
+    (folder / "torque.csv").write_text(TORQUE_TABLE)
+    return {"mesh.file": "mesh/mesh.msh", "torque.profile": "table", "torque.file": "torque.csv"}
+
+
+def test_pickling_with_relative_mesh_and_torque_files_continues_bit_for_bit(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    cfg = files_config(tmp_path)
+    never_pickled = Simulation(**cfg)
+    sim = Simulation(**cfg)
+    assert sim.config["mesh"]["file"] == "mesh/mesh.msh"
+    for _ in range(5):
+        never_pickled.step(0.01)
+        sim.step(0.01)
+    data = pickle.dumps(sim)
+    # unpickled elsewhere: the pickle names the files by absolute paths, the fingerprint their contents
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    copy = pickle.loads(data)
+    assert copy.config["torque"]["file"] == str(tmp_path / "torque.csv")
+    assert copy.config["mesh"]["file"] == str(tmp_path / "mesh" / "mesh.msh")
+    assert copy.snapshot() == sim.snapshot()
+    for _ in range(5):
+        never_pickled.step(0.01)
+        copy.step(0.01)
+    assert copy.tau != 0.0  # the table drives it
+    assert np.array_equal(state_of(copy), state_of(never_pickled))
+    assert copy.snapshot() == never_pickled.snapshot()
+
+
+def test_unpickling_after_the_torque_table_was_edited_fails_naming_the_table(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    cfg = files_config(tmp_path)
+    sim = Simulation(**cfg)
+    sim.step(0.01)
+    data = pickle.dumps(sim)
+    (tmp_path / "torque.csv").write_text(TORQUE_TABLE.replace("0.4", "0.41"))
+    with pytest.raises(ValueError, match=r"torque table \(times and torques of torque\.file = .*torque\.csv\) differs"):
+        pickle.loads(data)
+    # the file's content counts, not its name: the original table under another name restores
+    (tmp_path / "renamed.csv").write_text(TORQUE_TABLE)
+    same = Simulation(**{**cfg, "torque.file": "renamed.csv"})
+    same.restore(sim.snapshot())
 
 
 def test_a_bad_key_raises_value_error_naming_it():

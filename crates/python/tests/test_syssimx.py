@@ -8,6 +8,7 @@ from syssimx import Connection, CoSimComponent, PortSpec, PortType, System
 from syssimx.system.algorithms import HybridAlgorithm
 
 from pendulum_fem import Simulation
+from pendulum_fem._core import internal_steps as core_internal_steps
 from pendulum_fem.syssimx import PendulumFem, impact_parity, internal_steps
 
 THETA_REF = 0.3  # rad
@@ -124,6 +125,44 @@ def test_macro_steps_take_the_cli_steps_inside():
         row = 5 * (k + 1)
         assert plant.sim.theta == reference["theta_rad"][row]
         assert plant.sim.time == reference["time_s"][row]
+
+
+def test_fmpy_style_macro_steps_take_the_internal_steps_of_the_core_rule():
+    # fmpy's step sizes: differences of communication points, (k + 1)·0.01 − k·0.01, rounded
+    assert internal_steps is core_internal_steps  # the adapter has no rule of its own
+    macro = [(k * 0.01, (k + 1) * 0.01 - k * 0.01) for k in range(12)]
+    assert len({h for _, h in macro}) > 1, "the differences carry rounding"
+    for max_step in (0.01, 0.004):
+        plant = PendulumFem("pendulum", torque={"profile": "constant"}, max_internal_step=max_step)
+        plant.initialize(0.0)
+        reference = Simulation(torque={"profile": "constant"})
+        reference.tau = 0.0
+        last, taken = None, []
+        for t, h in macro:
+            plant.do_step(t, h)
+            n, step = core_internal_steps(h, max_step, last)
+            for _ in range(n):
+                reference.step(step)
+            taken.append((n, step))
+            last = step
+        # the core rule snaps to max_step or reuses the first internal step: one step size only
+        assert len(set(taken)) == 1, taken
+        assert taken[0] == ((1, 0.01) if max_step == 0.01 else (3, 0.01 / 3))
+        assert plant.sim.steps == reference.steps == 12 * taken[0][0]
+        assert plant.sim.snapshot() == reference.snapshot(), f"max_internal_step = {max_step}"
+
+
+def test_an_absurd_max_internal_step_raises_instead_of_looping():
+    with pytest.raises(ValueError, match="allowed at most 1000000"):
+        core_internal_steps(0.01, 1e-12)
+    with pytest.raises(ValueError, match="longest internal step"):
+        core_internal_steps(0.01, float("nan"))
+    plant = PendulumFem("pendulum", max_internal_step=1e-12)
+    plant.initialize(0.0)
+    before = plant.sim.snapshot()
+    with pytest.raises(ValueError, match=r"\[pendulum\] macro step dt = 0.01 s: .*allowed at most 1000000"):
+        plant.do_step(0.0, 0.01)
+    assert plant.sim.snapshot() == before and plant.sim.steps == 0
 
 
 def test_alpha_answers_tau_within_the_instant():

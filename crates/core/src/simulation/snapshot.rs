@@ -18,8 +18,9 @@
 //! ```text
 //! "PFEMSNAP"  magic (8 bytes)
 //! u32         format version (SNAPSHOT_VERSION)
-//! u64         model fingerprint: FNV-1a of the configuration (without time.end and [output])
-//!             and of the mesh (node coordinates and triangles)
+//! u64 × 3     model fingerprint ([`Fingerprint`]): FNV-1a of the configuration's values (without
+//!             time.end, [output] and the file paths), of the mesh (node coordinates, triangles,
+//!             named boundary edges) and of the torque table (times and torques as read)
 //! …           the fields in the order of `Snapshot::write_fields`: f64 as IEEE bits, counts as
 //!             u64, options as a byte 0/1 and the value, vectors as a u64 length and the values
 //! u64         FNV-1a of every byte before it (a damaged or truncated file is refused)
@@ -27,6 +28,9 @@
 //!
 //! A snapshot restores only into a model with the same fingerprint ([`Simulation::restore`]); a
 //! longer `time.end` or other outputs keep the fingerprint (so a finished run can be continued).
+//! The fingerprint covers what determines the dynamics, not where it was read from: the same mesh
+//! or torque table reached through a relative or an absolute `mesh.file` / `torque.file` gives the
+//! same fingerprint, an edited one another (and the error names the part that differs).
 
 use std::sync::Arc;
 
@@ -36,17 +40,19 @@ use crate::config::Config;
 use crate::newmark::State;
 use crate::newton::FactorState;
 use crate::post::Unwrap;
+use crate::terms::torque::TorqueTable;
 use crate::{Error, Mesh};
 
-/// Version of the byte format of [`Snapshot::to_bytes`].
-pub const SNAPSHOT_VERSION: u32 = 2;
+/// Version of the byte format of [`Snapshot::to_bytes`] (3: the fingerprint in three parts, without
+/// file paths).
+pub const SNAPSHOT_VERSION: u32 = 3;
 
 const MAGIC: &[u8; 8] = b"PFEMSNAP";
 
 /// The complete state of a [`Simulation`] (see the module doc).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Snapshot {
-    fingerprint: u64,
+    fingerprint: Fingerprint,
     pub(super) state: State,
     lambda: [f64; 2],
     step: usize,
@@ -92,29 +98,106 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
     h.0
 }
 
-/// The model fingerprint: FNV-1a of the configuration as JSON without `time.end` and `[output]`
-/// (they do not change the state of a step), then of every node coordinate (IEEE bits) and every
-/// triangle's node numbers.
-pub fn fingerprint(config: &Config, mesh: &Mesh) -> u64 {
-    let mut h = Fnv::new();
+/// What a model is made of, part by part, as FNV-1a hashes: what determines its dynamics, not the
+/// names of the files it was read from. A [`Snapshot`] restores only into a model with an equal
+/// fingerprint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Fingerprint {
+    /// The configuration as JSON without `time.end` and `[output]` (they do not change the state of
+    /// a step) and without the file paths `mesh.file` and `torque.file` (their contents count, in
+    /// `mesh` and `torque_table`); then the settings of bodies not described by the configuration.
+    pub config: u64,
+    /// The mesh of every body: each node coordinate (IEEE bits), each triangle's node numbers,
+    /// each boundary edge's nodes and name.
+    pub mesh: u64,
+    /// The torque table (`torque.profile = "table"`) as read: its times and torques (IEEE bits);
+    /// the hash of no bytes without a table.
+    pub torque_table: u64,
+}
+
+/// The fingerprint of a model of `config` on `mesh` (every body's) with the torque table `table`
+/// read from `torque.file` (see [`Fingerprint`]).
+pub fn fingerprint(config: &Config, mesh: &Mesh, table: Option<&TorqueTable>) -> Fingerprint {
     let mut json = serde_json::to_value(config).unwrap_or(serde_json::Value::Null);
     if let Some(obj) = json.as_object_mut() {
         obj.remove("output");
-        if let Some(time) = obj.get_mut("time").and_then(|t| t.as_object_mut()) {
-            time.remove("end");
+        for (section, key) in [("time", "end"), ("mesh", "file"), ("torque", "file")] {
+            if let Some(section) = obj.get_mut(section).and_then(|t| t.as_object_mut()) {
+                section.remove(key);
+            }
         }
     }
-    h.write(json.to_string().as_bytes());
+    let mut m = Fnv::new();
     for p in &mesh.nodes {
-        h.write(&p[0].to_bits().to_le_bytes());
-        h.write(&p[1].to_bits().to_le_bytes());
+        m.write(&p[0].to_bits().to_le_bytes());
+        m.write(&p[1].to_bits().to_le_bytes());
     }
     for t in &mesh.triangles {
         for &n in t {
-            h.write(&(n as u64).to_le_bytes());
+            m.write(&(n as u64).to_le_bytes());
         }
     }
-    h.0
+    for e in &mesh.boundary_edges {
+        for &n in &e.nodes {
+            m.write(&(n as u64).to_le_bytes());
+        }
+        let name = mesh.boundary_names.get(e.name).map_or("", String::as_str);
+        m.write(&(name.len() as u64).to_le_bytes());
+        m.write(name.as_bytes());
+    }
+    let mut t = Fnv::new();
+    if let Some(table) = table {
+        t.write(&(table.times.len() as u64).to_le_bytes());
+        for x in table.times.iter().chain(&table.torques) {
+            t.write(&x.to_bits().to_le_bytes());
+        }
+    }
+    Fingerprint {
+        config: fnv1a(json.to_string().as_bytes()),
+        mesh: m.0,
+        torque_table: t.0,
+    }
+}
+
+impl Fingerprint {
+    /// Mixes `bytes` (the settings of a further body) into the configuration part.
+    pub fn add_settings(&mut self, bytes: &[u8]) {
+        self.config = fnv1a(&[self.config.to_le_bytes().as_slice(), bytes].concat());
+    }
+
+    /// `None` when equal; else which parts of `self` (a snapshot's) differ from `model`'s, as a
+    /// clause for an error message ("the torque table (times and torques of torque.file = t.csv)
+    /// differs"; `config` is the model's, for the names of its files).
+    pub fn differences(&self, model: &Fingerprint, config: &Config) -> Option<String> {
+        let mut parts = Vec::new();
+        if self.config != model.config {
+            parts.push("the configuration's values".to_string());
+        }
+        if self.mesh != model.mesh {
+            parts.push(match &config.mesh.file {
+                Some(f) => format!("the mesh (nodes, triangles, boundaries of mesh.file = {})", f.display()),
+                None => "the mesh (nodes, triangles, boundaries)".to_string(),
+            });
+        }
+        if self.torque_table != model.torque_table {
+            let table = config.torque.profile == crate::config::TorqueProfile::Table;
+            parts.push(match config.torque.file.as_ref().filter(|_| table) {
+                Some(f) => format!("the torque table (times and torques of torque.file = {})", f.display()),
+                None => "the torque table (this model has none)".to_string(),
+            });
+        }
+        match parts.as_slice() {
+            [] => None,
+            [one] => Some(format!("{one} differs")),
+            [first @ .., last] => Some(format!("{} and {last} differ", first.join(", "))),
+        }
+    }
+}
+
+impl std::fmt::Display for Fingerprint {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:016x}-{:016x}-{:016x}", self.config, self.mesh, self.torque_table)
+    }
 }
 
 impl Simulation {
@@ -146,11 +229,13 @@ impl Simulation {
     /// when it was taken. A snapshot of another model (another fingerprint: configuration or mesh)
     /// or of fields of another size is an error, and nothing is changed then.
     pub fn restore(&mut self, snapshot: &Snapshot) -> Result<(), Error> {
-        if snapshot.fingerprint != self.model.fingerprint {
+        if let Some(parts) = snapshot
+            .fingerprint
+            .differences(&self.model.fingerprint, &self.model.config)
+        {
             return Err(Error::Input(format!(
-                "snapshot: made for another model (fingerprint {:016x}; this model's configuration and mesh give \
-                 {:016x}): restore a snapshot only into the configuration and mesh it was made with (time.end and \
-                 [output] may differ)",
+                "snapshot: made for another model: {parts} (fingerprint {}; this model's {}): restore a snapshot only into the configuration and mesh it was made with \
+                 (time.end, [output] and the paths of mesh.file and torque.file may differ, not the files' contents)",
                 snapshot.fingerprint, self.model.fingerprint
             )));
         }
@@ -302,7 +387,7 @@ impl Snapshot {
     }
 
     /// The model fingerprint it was made with (see [`crate::simulation::Model::fingerprint`]).
-    pub fn fingerprint(&self) -> u64 {
+    pub fn fingerprint(&self) -> Fingerprint {
         self.fingerprint
     }
 
@@ -311,7 +396,9 @@ impl Snapshot {
         let mut w = Writer(Vec::new());
         w.0.extend_from_slice(MAGIC);
         w.u32(SNAPSHOT_VERSION);
-        w.u64(self.fingerprint);
+        w.u64(self.fingerprint.config);
+        w.u64(self.fingerprint.mesh);
+        w.u64(self.fingerprint.torque_table);
         w.f64(self.state.t);
         w.vec(&self.state.u);
         w.vec(&self.state.v);
@@ -404,7 +491,11 @@ impl Snapshot {
             pos: 12,
             source,
         };
-        let fingerprint = r.u64("fingerprint")?;
+        let fingerprint = Fingerprint {
+            config: r.u64("fingerprint")?,
+            mesh: r.u64("fingerprint")?,
+            torque_table: r.u64("fingerprint")?,
+        };
         let t = r.f64("time")?;
         let u = r.vec("u")?;
         let v = r.vec("v")?;
@@ -500,5 +591,108 @@ impl Snapshot {
             contact_phase,
             factor,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::TorqueProfile;
+    use std::path::PathBuf;
+
+    fn table_config(file: &str) -> Config {
+        let mut cfg = Config::default();
+        cfg.torque.profile = TorqueProfile::Table;
+        cfg.torque.file = Some(PathBuf::from(file));
+        cfg
+    }
+
+    #[test]
+    fn the_fingerprint_ignores_file_paths_but_sees_a_table_value_and_a_moved_mesh_node() {
+        let mesh = crate::mesh::generate(&Config::default()).unwrap();
+        let table = TorqueTable::parse("time_s,torque_Nm\n0,0\n0.5,0.2\n1,0\n", "t.csv").unwrap();
+        let mut relative = table_config("t.csv");
+        relative.mesh.file = Some(PathBuf::from("m.msh"));
+        let base = fingerprint(&relative, &mesh, Some(&table));
+        // the same model through other paths, a longer end and other outputs
+        let mut absolute = table_config("/data/run 1/t.csv");
+        absolute.mesh.file = Some(PathBuf::from("/data/meshes/m.msh"));
+        absolute.time.end = 9.0;
+        absolute.output.plots = !absolute.output.plots;
+        assert_eq!(fingerprint(&absolute, &mesh, Some(&table)), base);
+        assert_eq!(base.differences(&base, &relative), None);
+
+        let mut edited = table.clone();
+        edited.torques[1] = 0.2000000001;
+        let other = fingerprint(&relative, &mesh, Some(&edited));
+        assert_eq!((other.config, other.mesh), (base.config, base.mesh));
+        assert_ne!(other.torque_table, base.torque_table);
+        let why = other.differences(&base, &relative).unwrap();
+        assert_eq!(
+            why,
+            "the torque table (times and torques of torque.file = t.csv) differs"
+        );
+        let mut later = table.clone();
+        later.times[2] = 1.5;
+        assert_ne!(
+            fingerprint(&relative, &mesh, Some(&later)).torque_table,
+            base.torque_table
+        );
+
+        let mut moved = mesh.clone();
+        moved.nodes[7][0] += 1e-12;
+        let other = fingerprint(&relative, &moved, Some(&table));
+        assert_eq!((other.config, other.torque_table), (base.config, base.torque_table));
+        assert_ne!(other.mesh, base.mesh);
+        let why = other.differences(&base, &relative).unwrap();
+        assert!(
+            why.starts_with("the mesh (") && why.contains("mesh.file = m.msh"),
+            "{why}"
+        );
+
+        let mut denser = relative.clone();
+        denser.material.density *= 2.0;
+        let other = fingerprint(&denser, &moved, None);
+        let why = other.differences(&base, &denser).unwrap();
+        assert!(
+            why.starts_with("the configuration's values, the mesh")
+                && why.ends_with("torque table (times and torques of torque.file = t.csv) differ"),
+            "{why}"
+        );
+    }
+
+    #[test]
+    fn a_snapshot_restores_through_another_path_to_the_same_table_but_not_after_the_table_is_edited() {
+        let dir = std::env::temp_dir().join(format!("pendulum-fem-fingerprint-{}", std::process::id()));
+        let table = "time_s,torque_Nm\n0,0\n0.02,0.3\n1,0.1\n";
+        let mut sims = Vec::new();
+        for (name, text) in [("a", table), ("b", table), ("edited", &table.replace("0.3", "0.31"))] {
+            std::fs::create_dir_all(dir.join(name)).unwrap();
+            let file = dir.join(name).join("t.csv");
+            std::fs::write(&file, text).unwrap();
+            let cfg = table_config(file.to_str().unwrap());
+            sims.push(Simulation::from_config(&cfg, crate::mesh::generate(&cfg).unwrap()).unwrap());
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+        let [a, b, edited] = &mut sims[..] else { unreachable!() };
+        a.step(0.01).unwrap();
+        let snap = Snapshot::from_bytes(&a.snapshot().to_bytes(), "mem").unwrap();
+        b.restore(&snap).unwrap();
+        a.step(0.01).unwrap();
+        b.step(0.01).unwrap();
+        assert_eq!(
+            a.snapshot(),
+            b.snapshot(),
+            "the same table in another folder: the same run"
+        );
+        let before = edited.snapshot();
+        let msg = edited.restore(&snap).unwrap_err().to_string();
+        assert!(
+            msg.contains("another model")
+                && msg.contains("the torque table (times and torques of torque.file = ")
+                && msg.contains("edited"),
+            "{msg}"
+        );
+        assert_eq!(edited.snapshot(), before, "a refused snapshot changes nothing");
     }
 }

@@ -21,6 +21,14 @@ def csv_columns(wall: bool = False) -> List[str]:
 def event_columns() -> List[str]:
     """The header of ``events.csv``: the keys of the rows of :attr:`Simulation.events`."""
 
+def internal_steps(h: float, max_step: float, last: Optional[float] = None) -> Tuple[int, float]:
+    """``(n, step)``: a communication step ``h`` [s] as ``n`` internal steps of
+    ``step <= max_step`` [s], by the FMU's rule: a multiple of ``max_step`` (to 1e-9 relative)
+    takes steps of exactly ``max_step``, any other ``h`` ``ceil(h / max_step)`` equal steps, and
+    an internal step within 1e-9 of ``last`` (the previous communication step's) is taken as
+    ``last``. Raises ``ValueError`` (naming the values) for an ``h`` or ``max_step`` that is not
+    finite and positive, or when more than a million internal steps would be needed."""
+
 class Simulation:
     """A deformable pendulum simulation (finite elements, hyperelastic, on a hinge under gravity).
 

@@ -11,8 +11,10 @@ shaped like syssimx's own ``FEMPendulum`` example:
 * ``snapshot_state``/``restore_state`` through the stepper's complete snapshot, so a rollback by
   syssimx's hybrid algorithm continues bit for bit as if the component had never advanced;
 * a macro step longer than ``max_internal_step`` (default: the configuration's ``time.dt``) is
-  split into equal internal steps; a multiple of it takes steps of exactly that length, as the
-  CLI does, and a zero step only refreshes the outputs.
+  split into internal steps by the FMU's rule (:func:`pendulum_fem._core.internal_steps`): a
+  multiple of it takes steps of exactly that length, as the CLI does, other steps equal ones (the
+  previous macro step's internal step when within rounding of it); a zero step only refreshes the
+  outputs.
 
 **Impacts.** With a wall (``**{"wall.kind": "rigid"}``) the stepper resolves each impact inside
 the macro step, so the head can touch the wall and leave it between two communication points, and
@@ -34,7 +36,7 @@ then replaces).
 from __future__ import annotations
 
 import math
-from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
+from typing import Any, Dict, List, Mapping, Optional, Union
 
 try:
     from syssimx import CoSimComponent, PortSpec, PortType
@@ -44,6 +46,7 @@ except ImportError as error:  # pragma: no cover - depends on the environment
     ) from error
 
 from . import Simulation
+from ._core import internal_steps
 
 #: Marks this component's snapshots (``restore_state`` refuses others).
 SNAPSHOT_MODE = "pendulum-fem"
@@ -78,20 +81,6 @@ def impact_parity(component: "PendulumFem") -> float:
     (from the ``contact_count`` output), so that every impact is a sign change."""
     count = component.outputs["contact_count"].get()
     return 0.5 - (int(count or 0) % 2)
-
-
-def internal_steps(dt: float, max_step: float) -> Tuple[int, float]:
-    """``(n, h)``: a macro step ``dt`` as ``n`` internal steps of ``h <= max_step``.
-
-    A multiple of ``max_step`` (to 1e-9 relative) takes steps of exactly ``max_step`` (the CLI's
-    steps, bit for bit); any other ``dt`` is split into ``ceil(dt / max_step)`` equal steps.
-    """
-    ratio = dt / max_step
-    n = round(ratio)
-    if n >= 1 and abs(ratio - n) <= 1e-9 * ratio:
-        return (n, max_step) if n > 1 else (1, dt)
-    n = max(1, math.ceil(ratio))
-    return n, dt / n
 
 
 class PendulumFem(CoSimComponent):
@@ -129,6 +118,8 @@ class PendulumFem(CoSimComponent):
         }
         self.sim: Optional[Simulation] = None
         self._max_step = 0.0
+        # the internal step of the last macro step (reused within rounding, as the FMU does)
+        self._last_internal_step: Optional[float] = None
 
     # ------------------------------------------------------------------ lifecycle
     def _initialize_component(self, t0: float) -> None:
@@ -138,6 +129,7 @@ class PendulumFem(CoSimComponent):
         self.sim.tau = self._input_tau()
         h = float(self.parameters["max_internal_step"])
         self._max_step = h if h > 0.0 else float(self.sim.config["time"]["dt"])
+        self._last_internal_step = None
 
     def _input_tau(self) -> float:
         value = self.inputs["tau"].get()
@@ -152,6 +144,7 @@ class PendulumFem(CoSimComponent):
         """Drops the simulation; ``initialize`` builds a new one."""
         super().reset()
         self.sim = None
+        self._last_internal_step = None
 
     # ------------------------------------------------------------------ inputs and outputs
     def set_inputs(self, signals: Dict[str, Any], t: Optional[float] = None) -> None:
@@ -184,20 +177,31 @@ class PendulumFem(CoSimComponent):
         self.internal_event_hints.clear()  # hints belong to the advance that reports them
         if dt == 0.0:
             return  # an output refresh (syssimx's initialization and algebraic loops)
-        n, h = internal_steps(dt, self._max_step)
+        try:
+            n, h = internal_steps(dt, self._max_step, self._last_internal_step)
+        except ValueError as error:
+            raise ValueError(f"[{self.name}] macro step dt = {dt} s: {error}") from None
         for _ in range(n):
             sim.step(h)
+        self._last_internal_step = h
 
     # ------------------------------------------------------------------ rollback
     def snapshot_state(self) -> Dict[str, Any]:
-        """The complete state of the stepper (opaque bytes) and the component's time."""
-        return {"mode": SNAPSHOT_MODE, "state": self._require_sim().snapshot(), "t": self.t}
+        """The complete state of the stepper (opaque bytes), the component's time and the last
+        internal step."""
+        return {
+            "mode": SNAPSHOT_MODE,
+            "state": self._require_sim().snapshot(),
+            "t": self.t,
+            "last_internal_step": self._last_internal_step,
+        }
 
     def restore_state(self, snapshot: Dict[str, Any], t: float) -> None:
         """Restores a :meth:`snapshot_state` of this component: later steps repeat bit for bit."""
         if not isinstance(snapshot, dict) or snapshot.get("mode") != SNAPSHOT_MODE:
             raise ValueError(f"[{self.name}] not a snapshot of a PendulumFem component")
         self._require_sim().restore(snapshot["state"])
+        self._last_internal_step = snapshot.get("last_internal_step")
         self.internal_event_hints.clear()
         self.t = t
         self._update_output_states(t)
@@ -226,5 +230,6 @@ class PendulumFem(CoSimComponent):
         self.sim = Simulation(self.parameters["config"] or None, **overrides)
         tau = _magnitude(state["tau"]["value"], "N*m") if "tau" in state else self._input_tau()
         self.sim.tau = tau
+        self._last_internal_step = None
         self.t = t
         self._update_output_states(t)
