@@ -33,7 +33,9 @@ pub fn internal_steps(h: f64, max_step: f64, last: Option<f64>) -> Result<(u64, 
         return Err(format!("communication step {h} s: allowed a finite value > 0 s"));
     }
     if !(max_step.is_finite() && max_step > 0.0) {
-        return Err(format!("longest internal step {max_step} s: allowed a finite value > 0 s"));
+        return Err(format!(
+            "longest internal step {max_step} s: allowed a finite value > 0 s"
+        ));
     }
     let ratio = h / max_step;
     if !(ratio <= MAX_INTERNAL_STEPS as f64 * (1.0 + STEP_SNAP)) {
@@ -73,7 +75,10 @@ mod tests {
         assert_eq!(n, 3);
         assert!((sub - 0.025 / 3.0).abs() < 1e-18);
         let last = 0.025 / 3.0;
-        assert_eq!(internal_steps(0.025 * (1.0 + 1e-12), 0.01, Some(last)).unwrap(), (3, last));
+        assert_eq!(
+            internal_steps(0.025 * (1.0 + 1e-12), 0.01, Some(last)).unwrap(),
+            (3, last)
+        );
         assert_eq!(internal_steps(0.004, 0.01, None).unwrap(), (1, 0.004));
     }
 
@@ -83,7 +88,13 @@ mod tests {
         assert!(e.contains("allowed at most 1000000"), "{e}");
         assert!(internal_steps(1.0, 1e-6, None).is_ok());
         assert!(internal_steps(1.0 + 1e-6, 1e-6, None).is_err());
-        for (h, max) in [(0.0, 0.01), (-1.0, 0.01), (f64::NAN, 0.01), (0.01, 0.0), (0.01, f64::INFINITY)] {
+        for (h, max) in [
+            (0.0, 0.01),
+            (-1.0, 0.01),
+            (f64::NAN, 0.01),
+            (0.01, 0.0),
+            (0.01, f64::INFINITY),
+        ] {
             assert!(internal_steps(h, max, None).is_err(), "h = {h}, max = {max}");
         }
     }
