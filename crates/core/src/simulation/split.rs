@@ -38,7 +38,8 @@ pub fn internal_steps(h: f64, max_step: f64, last: Option<f64>) -> Result<(u64, 
         ));
     }
     let ratio = h / max_step;
-    if !(ratio <= MAX_INTERNAL_STEPS as f64 * (1.0 + STEP_SNAP)) {
+    // h and max_step are finite and positive: the ratio is positive, +∞ at worst, never NaN
+    if ratio > MAX_INTERNAL_STEPS as f64 * (1.0 + STEP_SNAP) {
         return Err(format!(
             "communication step {h} s would take {ratio:.3e} internal steps of at most {max_step} s; \
              allowed at most {MAX_INTERNAL_STEPS}: raise the longest internal step or shorten the \
