@@ -7,7 +7,7 @@ mod common;
 
 use pendulum_fem::config::{ContactMethod, Scheme, WallKind};
 use pendulum_fem::simulation::{ContactEvent, ContactEventKind, StepRecord};
-use pendulum_fem::Config;
+use pendulum_fem::{Config, Simulation};
 
 /// m g d (1 − cos 20°) of the tutorial's pendulum \[J\]: the swing energy.
 const SWING_ENERGY: f64 = 0.11653;
@@ -72,7 +72,18 @@ fn a_rigid_wall_bounces_the_pendulum_back_to_twenty_degrees_with_the_energy_kept
     let last = records.last().unwrap();
     let contact = last.contact.expect("contact columns with a wall");
     assert_eq!(contact.impacts, 3);
-    assert!(records.iter().all(|r| r.contact.is_some_and(|c| c.energy >= 0.0)));
+    // the contact energy is there exactly while a point penetrates
+    for r in &records {
+        let c = r.contact.expect("contact columns with a wall");
+        assert_eq!(
+            c.energy > 0.0,
+            c.gap < 0.0,
+            "t = {} s: energy {:e} J, gap {:e} m",
+            r.time,
+            c.energy,
+            c.gap
+        );
+    }
 }
 
 #[test]
@@ -244,4 +255,191 @@ fn a_snapshot_taken_during_an_impact_continues_bit_for_bit() {
         assert_eq!(&a.record(0), expected, "step {k} after the restore");
     }
     assert_eq!(a.contact_events().len(), 2, "the impact's start and end, once each");
+}
+
+/// One state inside an impact, from [`through_the_first_impact`].
+struct Inside {
+    time: f64,
+    /// `|E − W_torque − E₀|` over the available energy.
+    balance: f64,
+    contact_energy: f64,
+    gap: f64,
+}
+
+/// Steps of 10 ms to 0.23 s (10 ms before the touch), then calls of `step(h)` until the first
+/// impact has ended: the first impact's sub-step and every state of the small steps.
+fn through_the_first_impact(cfg: &Config, h: f64, available: f64) -> (Simulation, f64, Vec<Inside>) {
+    let mesh = pendulum_fem::mesh::generate(cfg).unwrap();
+    let mut sim = Simulation::from_config(cfg, mesh).unwrap();
+    let e0 = sim.energies().total;
+    while sim.time() < 0.23 - 1e-9 {
+        sim.step(0.01).unwrap();
+    }
+    let mut substep = None;
+    let mut inside = Vec::new();
+    while !sim.contact_events().iter().any(|e| e.kind == ContactEventKind::End) {
+        assert!(sim.time() < 0.3, "the first impact ends before 0.3 s");
+        sim.step(h).unwrap();
+        substep = substep.or(sim.contact_substep());
+        let e = sim.energies();
+        inside.push(Inside {
+            time: sim.time(),
+            balance: (e.total - e.torque_work - e0).abs() / available,
+            contact_energy: e.contact,
+            gap: sim.gap(),
+        });
+    }
+    (sim, substep.expect("an impact in sub-steps"), inside)
+}
+
+#[test]
+fn inside_an_impact_every_sub_step_keeps_the_energy_balance_and_the_contact_energy_of_a_cylinder_on_a_plane() {
+    // steps of 20 µm, shorter than the impact's sub-step (72 µm): every call is one internal step
+    let cfg = rigid_wall(0.3);
+    let (_, substep, inside) = through_the_first_impact(&cfg, 2e-5, SWING_ENERGY);
+    let in_contact = inside.iter().filter(|s| s.gap < 0.0).count();
+    let worst = inside.iter().map(|s| s.balance).fold(0.0, f64::max);
+    println!(
+        "sub-step {substep:e} s; {} steps, {in_contact} in contact; worst energy balance {worst:.2e}",
+        inside.len()
+    );
+    assert!(substep > 2e-5, "the steps are shorter than the sub-step {substep}");
+    assert!(
+        in_contact > 50,
+        "{in_contact} steps in contact (the impact lasts 2.1 ms)"
+    );
+    // the energy-momentum scheme with the secant contact force conserves the total up to Newton's
+    // tolerance (solver.energy_tolerance = 1e-10 of the energy scale per step)
+    assert!(worst < 1e-6, "energy balance {worst:e} of the swing energy");
+    for s in &inside {
+        assert_eq!(
+            s.contact_energy > 0.0,
+            s.gap < 0.0,
+            "t = {}: {:e} J at gap {:e} m",
+            s.time,
+            s.contact_energy,
+            s.gap
+        );
+    }
+    // at the largest penetration δ the contact energy is that of the head's arc (radius R) pressed
+    // into the plane by δ: k t (8/15) √(2R) δ^{5/2}
+    let peak = inside.iter().min_by(|a, b| a.gap.total_cmp(&b.gap)).unwrap();
+    let (k, t, r, delta) = (
+        cfg.contact.stiffness,
+        cfg.geometry.thickness,
+        cfg.geometry.head_radius,
+        -peak.gap,
+    );
+    let closed = k * t * (8.0 / 15.0) * (2.0 * r).sqrt() * delta.powf(2.5);
+    let ratio = peak.contact_energy / closed;
+    println!(
+        "peak: δ = {delta:e} m, contact energy {:e} J, closed form {closed:e} J",
+        peak.contact_energy
+    );
+    // within 1 % (measured 0.4 %): the closed form takes the parabola of a circle (δ/R ~ 7e-3) and
+    // an undeformed head; the Gauss points of the arc's edges resolve the 14 mm wide contact
+    assert!((ratio - 1.0).abs() < 0.01, "contact energy / closed form = {ratio}");
+}
+
+#[test]
+fn a_soft_block_lengthens_the_impacts_sub_step_and_keeps_the_energy_balance() {
+    let mut stiff = rigid_wall(0.3);
+    stiff.wall.kind = WallKind::Deformable;
+    let mut soft = stiff.clone();
+    // a rubber block of 10 MPa against the steel pendulum (210 GPa)
+    soft.wall.youngs_modulus = 1e7;
+    soft.wall.density = 1100.0;
+    soft.wall.poisson_ratio = 0.45;
+    let (_, substep_stiff, _) = through_the_first_impact(&stiff, 1e-3, SWING_ENERGY);
+    let (sim, substep_soft, inside) = through_the_first_impact(&soft, 1e-4, SWING_ENERGY);
+    let worst = inside.iter().map(|s| s.balance).fold(0.0, f64::max);
+    let end = sim
+        .contact_events()
+        .iter()
+        .find(|e| e.kind == ContactEventKind::End)
+        .unwrap();
+    println!(
+        "sub-step: steel block {substep_stiff:e} s, rubber block {substep_soft:e} s; rubber: {} steps, worst energy \
+         balance {worst:.2e}, penetration {:e} m",
+        inside.len(),
+        end.penetration
+    );
+    // steel: the penalty's time scale governs (0.72 ms / 10); rubber: the block's line-contact
+    // stiffness (π/4) E t in series with the pendulum's, (π/4) √(m/k) = 2.4 ms, / 10
+    assert!(
+        (substep_stiff - 7.2e-5).abs() < 0.1 * 7.2e-5,
+        "steel block: {substep_stiff:e} s"
+    );
+    assert!(
+        (substep_soft - 2.4e-4).abs() < 0.1 * 2.4e-4,
+        "rubber block: {substep_soft:e} s"
+    );
+    assert!(worst < 1e-6, "energy balance {worst:e} of the swing energy");
+}
+
+#[test]
+fn two_hundred_impacts_cost_a_hundred_times_two_impacts() {
+    // no gravity; a constant torque of −4.4 N m (α = −100 rad/s²) drives the head from 0.0716°
+    // onto the wall at 0.5 rad/s, and back after each bounce: an impact every 13 ms (10 ms of
+    // flight, 3 ms against the wall)
+    let mut cfg = rigid_wall(0.02);
+    cfg.gravity.g = 0.0;
+    cfg.mesh.refine = 0.5;
+    cfg.torque.profile = pendulum_fem::config::TorqueProfile::Constant;
+    cfg.torque.amplitude = -100.0 * INERTIA;
+    cfg.initial.angle_deg = (0.25f64 / 200.0).to_degrees();
+    let run = |end: f64| {
+        let mut cfg = cfg.clone();
+        cfg.time.end = end;
+        let (sim, records) = common::simulate(&cfg);
+        let available = records.iter().map(|r| r.kinetic).fold(0.0, f64::max);
+        let e0 = records[0].total;
+        let worst = records
+            .iter()
+            .map(|r| (r.total - r.torque_work - e0).abs())
+            .fold(0.0, f64::max)
+            / available;
+        // the cost: the Newton iterations of every (sub)step plus the contact events copied
+        let cost = sim.total_iterations + sim.events_copied();
+        (sim.impacts(), sim.events_copied(), cost, worst)
+    };
+    // 3 steps of 10 ms hold 2 impacts, 260 steps 200 (1.5 and 1.3 steps per impact)
+    let (few, few_copied, few_cost, few_worst) = run(0.03);
+    let (many, many_copied, many_cost, many_worst) = run(2.6);
+    let ratio = (many_cost as f64 / many as f64) / (few_cost as f64 / few as f64);
+    println!(
+        "{few} impacts: cost {few_cost} ({few_copied} events copied), balance {few_worst:.1e}; {many} impacts: cost \
+         {many_cost} ({many_copied} events copied), balance {many_worst:.1e}; cost per impact ratio {ratio:.3}"
+    );
+    assert_eq!(few, 2);
+    assert!((195..=205).contains(&many), "{many} impacts");
+    // the steps copy no events (before, every step's roll-back point copied them all: ~200 per step
+    // at the end of the long run)
+    assert_eq!(many_copied, 0);
+    // per impact, the long run costs what the short one does: within 25 %, the spread of the
+    // impacts' phase against the 10 ms steps (the events copied before would have made it ~50×)
+    assert!(ratio < 1.25, "cost per impact: {ratio} × the 2-impact run's");
+    // Newton's energy tolerance (1e-10 of the energy scale) per sub-step, over ~10⁴ sub-steps
+    assert!(
+        few_worst < 1e-6,
+        "energy balance {few_worst:e} of the largest kinetic energy"
+    );
+    assert!(
+        many_worst < 1e-5,
+        "energy balance {many_worst:e} of the largest kinetic energy"
+    );
+    // a public snapshot carries every event, and counts them
+    let mesh = pendulum_fem::mesh::generate(&cfg).unwrap();
+    let mut sim = Simulation::from_config(&cfg, mesh).unwrap();
+    for _ in 0..3 {
+        sim.step(0.01).unwrap();
+    }
+    let snap = sim.snapshot();
+    assert_eq!(sim.events_copied(), sim.contact_events().len());
+    assert_eq!(sim.contact_events().len(), 4, "two impacts, start and end");
+    sim.step(0.01).unwrap();
+    assert_eq!(sim.contact_events().len(), 6, "the third impact, 31–34 ms");
+    sim.restore(&snap).unwrap();
+    assert_eq!(sim.contact_events().len(), 4);
+    assert_eq!(sim.events_copied(), 8);
 }

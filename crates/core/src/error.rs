@@ -118,6 +118,17 @@ pub enum Error {
     Input(String),
     /// The sparse factorisation could not be set up.
     LinearSolver(String),
+    /// The deformable wall's face met the head where the fixed sparsity pattern couples no
+    /// nodes (the bodies deformed by more than its margin): the step is refused rather than solved
+    /// with a truncated Jacobian ([`crate::terms::RigidWall::uncoupled_contact`]).
+    ContactOutsidePattern {
+        /// Step number (1-based: the step that would reach `t + dt`).
+        step: usize,
+        /// Time of the (sub-)step end at which it was found \[s\].
+        t: f64,
+        /// Which head edge and face segment, where.
+        message: String,
+    },
     /// The run was stopped because it diverged (the energy watchdog of `pendulum-fem run`).
     Divergence {
         /// Step at which it was detected.
@@ -158,6 +169,9 @@ impl fmt::Display for Error {
             Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
             Self::Input(m) => write!(f, "input: {m}"),
             Self::LinearSolver(m) => write!(f, "linear solver: {m}"),
+            Self::ContactOutsidePattern { step, t, message } => {
+                write!(f, "time step {step} refused at t = {t:.6} s: {message}")
+            }
             Self::Divergence { step, t, message } => write!(f, "run stopped at step {step}, t = {t} s: {message}"),
         }
     }

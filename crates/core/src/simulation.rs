@@ -579,8 +579,10 @@ pub struct Simulation {
     stress_evaluations: usize,
     /// Impacts so far.
     impacts: usize,
-    /// Contact events so far.
+    /// Contact events so far (append-only within a run: roll-backs truncate it).
     events: Vec<ContactEvent>,
+    /// Contact events copied by snapshots and restores ([`Simulation::events_copied`]).
+    events_copied: std::sync::atomic::AtomicUsize,
     /// The impact in progress.
     contact_phase: Option<impact::ContactPhase>,
     scratch: Vec<f64>,
@@ -688,6 +690,7 @@ impl Simulation {
             stress_evaluations: 0,
             impacts: 0,
             events: Vec::new(),
+            events_copied: Default::default(),
             contact_phase: None,
             solver,
             state,
@@ -1263,12 +1266,13 @@ impl Simulation {
             }
         };
         if self.resolves_impacts() {
-            its = self.advance_resolving(dt).map_err(failed(self.step + 1))?;
+            its = self.advance_resolving(dt)?;
         } else {
             for _ in 0..substeps {
                 let u0 = self.model.wall.is_some().then(|| self.state.u.clone());
                 its += self.advance_by(h, 0).map_err(failed(self.step + 1))?;
                 if let Some(u0) = u0 {
+                    self.check_contact_pattern(self.step + 1)?;
                     self.contact_step_ends(&u0, h);
                 }
             }

@@ -31,7 +31,14 @@
 //! The fingerprint covers what determines the dynamics, not where it was read from: the same mesh
 //! or torque table reached through a relative or an absolute `mesh.file` / `torque.file` gives the
 //! same fingerprint, an edited one another (and the error names the part that differs).
+//!
+//! **Rolling back within a run.** A step that fails, and an impact's sub-step that is taken again,
+//! return to a [`Rollback`] point: a snapshot without the contact events. The event list only grows
+//! during a run, so it rolls back by its length; a step then costs nothing in the number of past
+//! events (a public snapshot copies them all, as it must). [`Simulation::events_copied`] counts the
+//! events copied by snapshots and restores.
 
+use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 use super::impact::ContactPhase;
@@ -200,10 +207,42 @@ impl std::fmt::Display for Fingerprint {
     }
 }
 
+/// A point to roll back to within a run (see the module doc): the snapshot without the contact
+/// events, and the length of the event list.
+pub(super) struct Rollback {
+    pub(super) snapshot: Snapshot,
+    events: usize,
+}
+
 impl Simulation {
-    /// The complete state now (see the module doc). Cheap apart from copying the fields: the
-    /// factorisation is shared, not copied.
+    /// The complete state now (see the module doc). Cheap apart from copying the fields and the
+    /// contact events: the factorisation is shared, not copied.
     pub fn snapshot(&self) -> Snapshot {
+        self.events_copied.fetch_add(self.events.len(), Ordering::Relaxed);
+        self.snapshot_with(self.events.clone())
+    }
+
+    /// The state now to roll back to within the run: the fields, not the contact events.
+    pub(super) fn rollback_point(&self) -> Rollback {
+        Rollback {
+            snapshot: self.snapshot_with(Vec::new()),
+            events: self.events.len(),
+        }
+    }
+
+    /// Returns to `r`: the fields as they were, the contact events since dropped.
+    pub(super) fn roll_back(&mut self, r: &Rollback) {
+        self.apply_fields(&r.snapshot);
+        self.events.truncate(r.events);
+    }
+
+    /// Contact events copied so far by [`Simulation::snapshot`] and [`Simulation::restore`] (a cost
+    /// measure: steps and their roll-backs copy none).
+    pub fn events_copied(&self) -> usize {
+        self.events_copied.load(Ordering::Relaxed)
+    }
+
+    fn snapshot_with(&self, events: Vec<ContactEvent>) -> Snapshot {
         Snapshot {
             fingerprint: self.model.fingerprint,
             state: self.state.clone(),
@@ -219,7 +258,7 @@ impl Simulation {
             last_iterations: self.last_iterations,
             held_torque: self.held_torque,
             impacts: self.impacts,
-            events: self.events.clone(),
+            events,
             contact_phase: self.contact_phase,
             factor: self.solver.factor_state(),
         }
@@ -247,12 +286,15 @@ impl Simulation {
                 s.u.len()
             )));
         }
-        self.apply(snapshot);
+        self.apply_fields(snapshot);
+        self.events_copied.fetch_add(snapshot.events.len(), Ordering::Relaxed);
+        self.events = snapshot.events.clone();
         Ok(())
     }
 
-    /// Sets every part of the state from `s` (no checks; see [`Simulation::restore`]).
-    pub(super) fn apply(&mut self, s: &Snapshot) {
+    /// Sets every part of the state from `s` but the contact events (no checks; see
+    /// [`Simulation::restore`]).
+    fn apply_fields(&mut self, s: &Snapshot) {
         self.state = s.state.clone();
         self.lambda = s.lambda;
         self.step = s.step;
@@ -267,7 +309,6 @@ impl Simulation {
         self.last_iterations = s.last_iterations;
         self.apply_torque_input(s.held_torque);
         self.impacts = s.impacts;
-        self.events = s.events.clone();
         self.contact_phase = s.contact_phase;
         self.rates = None;
         // The matrix was factorised before with this symbolic analysis; should that fail now, the

@@ -71,7 +71,7 @@ impl Simulation {
     }
 
     fn step_with(&mut self, dt: f64, clock: Clock) -> Result<usize, Error> {
-        let before = self.snapshot();
+        let before = self.rollback_point();
         match self.advance_over(dt) {
             Ok(its) => {
                 self.clock = clock;
@@ -81,7 +81,7 @@ impl Simulation {
                 Ok(its)
             }
             Err(e) => {
-                self.apply(&before);
+                self.roll_back(&before);
                 Err(e)
             }
         }
@@ -107,7 +107,7 @@ impl Simulation {
                     .into(),
             ));
         }
-        let before = (self.step == 0).then(|| self.snapshot());
+        let before = (self.step == 0).then(|| self.rollback_point());
         self.apply_torque_input(Some(value));
         self.rates = None;
         if let Some(before) = before {
@@ -115,7 +115,7 @@ impl Simulation {
             // acceleration and elastic equilibrium), as a configured torque would be; if that
             // equilibrium fails, nothing has changed
             if let Err(e) = self.initialize() {
-                self.apply(&before);
+                self.roll_back(&before);
                 return Err(e);
             }
         }

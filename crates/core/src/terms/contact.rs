@@ -26,6 +26,34 @@
 //!
 //! The Hessian entries couple the nodes of one edge, which lie in one element: they are in the
 //! element pattern, and the term writes them (zeros when apart) without extra entries.
+//!
+//! **The deformable face** ([`RigidWall::deformable`]) is the polyline through the block's face
+//! nodes. A head point's gap is its distance in `x` to the face segment at its height; past the
+//! face's ends the end segment's line is continued, and the energy fades out over one taper length
+//! `ℓ` (the end segment's reference length) past the end with the smooth factor
+//!
+//! ```text
+//! Π_c = Σ_q w_q ψ(g_q) s(η_q),   s(η) = 1 − 3η² + 2η³ on [0, 1], 1 below, 0 above,
+//! η = (distance of the point past the face's nearer end) / ℓ        (≤ 0 on the face)
+//! ```
+//!
+//! (a block's corner rounded over one face element), so that the energy is continuous, with a
+//! continuous gradient, where a point leaves the face. The discrete gradient of each point's
+//! `ψ(g) s(η)` is the product rule for secants,
+//! `½(s₀ + s₁) ψ_d ∇ᵈg + ½(ψ₀ + ψ₁) s_d ∇ᵈη`, with `ψ_d`, `s_d` the secants of `ψ` and `s` between the
+//! step's ends and `∇ᵈg`, `∇ᵈη` the mid-step gradients corrected along `Δu` so that
+//! `∇ᵈg · Δu = g₁ − g₀` and `∇ᵈη · Δu = η₁ − η₀` exactly, for the gaps and heights of both ends on
+//! their own segments: the discrete-gradient identity holds to rounding whatever segments or
+//! ends the point crosses within the step.
+//!
+//! **Its Hessian pattern.** A head point can only touch the face at a height fixed by its distance
+//! `r` from the pivot: turning rigidly about the pivot, it meets the plane `x = x_w` at
+//! `y = ±√(r² − x_w²)`. The pattern couples every head edge with the face segments within that band
+//! of heights, widened by a deformation margin (`reach`: the radius, the face's position and the
+//! segment's ends may move by that much): every pair that can touch when the bodies deform by less
+//! than the margin. A contact outside the coupled pairs (a larger deformation) is reported by
+//! [`RigidWall::uncoupled_contact`], and the simulation stops with an error naming it rather than
+//! drop the stiffness.
 
 use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
@@ -38,6 +66,8 @@ use crate::{Error, Mesh};
 struct ContactPoint {
     /// The edge's `[start, end, mid]` nodes.
     nodes: [usize; 3],
+    /// The edge's index among the arc's edges.
+    edge: usize,
     /// The quadratic edge basis at the point.
     basis: [f64; 3],
     /// Reference `x` of the point \[m\].
@@ -51,14 +81,51 @@ struct ContactPoint {
 #[derive(Clone, Debug)]
 struct Face {
     nodes: Vec<usize>,
+    /// Taper lengths `ℓ` past the bottom and the top end: the end segments' reference lengths \[m\].
+    taper: [f64; 2],
+    /// The `(head edge, face segment)` pairs that the Hessian pattern couples, sorted.
+    pairs: Vec<(usize, usize)>,
+    /// The deformation margin of the pairs \[m\].
+    reach: f64,
 }
 
-/// A point's gap and its gradient over its local degrees of freedom.
+/// A point's gap and its gradient over its local degrees of freedom; with the face also its
+/// height past the face's nearer end in taper lengths and the gradient of that.
 struct Local {
     g: f64,
+    /// `η` (≤ 0 on the face; −1 for the rigid wall).
+    eta: f64,
     dofs: [usize; 10],
     grad: [f64; 10],
+    deta: [f64; 10],
     n: usize,
+    /// The face segment used.
+    seg: usize,
+}
+
+/// The taper `s(η)` of the face's ends (see the module doc).
+fn taper(eta: f64) -> f64 {
+    let e = eta.clamp(0.0, 1.0);
+    1.0 - e * e * (3.0 - 2.0 * e)
+}
+
+/// `s'(η)`.
+fn taper_slope(eta: f64) -> f64 {
+    let e = eta.clamp(0.0, 1.0);
+    -6.0 * e * (1.0 - e)
+}
+
+/// The secant of `s` between `e0` and `e1` (`s'` when they coincide), in closed form on one piece.
+fn taper_secant(e0: f64, e1: f64) -> f64 {
+    let (c0, c1) = (e0.clamp(0.0, 1.0), e1.clamp(0.0, 1.0));
+    if c0 == c1 {
+        return if e0 == e1 { taper_slope(e0) } else { 0.0 };
+    }
+    if (c0 == e0) && (c1 == e1) {
+        // both on the cubic: (s1 − s0)/(e1 − e0) without cancellation
+        return -3.0 * (e0 + e1) + 2.0 * (e0 * e0 + e0 * e1 + e1 * e1);
+    }
+    (taper(e1) - taper(e0)) / (e1 - e0)
 }
 
 /// The wall `x ≤ x_w` against the named boundary (see the module doc); rigid, or with the face of
@@ -75,8 +142,6 @@ pub struct RigidWall {
     points: Vec<ContactPoint>,
     /// The deformable wall's face, if the wall is a body.
     face: Option<Face>,
-    /// Degrees of freedom whose couplings the Hessian writes (see [`Term::hessian_entries`]).
-    coupled: Vec<usize>,
     /// Reference coordinates of the mesh's nodes \[m\].
     reference: Vec<[f64; 2]>,
 }
@@ -95,7 +160,7 @@ impl RigidWall {
     ) -> Result<Self, Error> {
         let rule = gauss_legendre_unit(points_per_edge.max(1));
         let mut points = Vec::new();
-        for e in mesh.edges_named(name) {
+        for (edge, e) in mesh.edges_named(name).enumerate() {
             let x = e.nodes.map(|n| mesh.nodes[n]);
             for &(s, w) in &rule {
                 let n = Tri6::edge_basis(s);
@@ -103,6 +168,7 @@ impl RigidWall {
                 let dx = [0, 1].map(|i| (0..3).map(|a| dn[a] * x[a][i]).sum::<f64>());
                 points.push(ContactPoint {
                     nodes: e.nodes,
+                    edge,
                     basis: n,
                     x_ref: (0..3).map(|a| n[a] * x[a][0]).sum(),
                     weight: w * dx[0].hypot(dx[1]) * thickness,
@@ -120,17 +186,16 @@ impl RigidWall {
             end_point: false,
             points,
             face: None,
-            coupled: Vec::new(),
             reference: mesh.nodes.clone(),
         })
     }
 
     /// The contact of the boundary `name` of `mesh` with the face `face_name` of a deformable body
     /// in the same mesh (its nodes in the model's numbering). The gap of a head point is its
-    /// distance in `x` to the face's polyline at its own height (the face is the vertical edge of
-    /// the block; points above or below it are apart). The Hessian couples the `x` components of
-    /// the head's nodes within `reach` of its leftmost point and of the face's nodes within `reach`
-    /// of their heights: the Jacobian of the pairs that can touch; the gradient is exact for all.
+    /// distance in `x` to the face's polyline at its own height, continued past the face's ends
+    /// where the energy fades out (see the module doc). The Hessian couples the head's edges with
+    /// the face segments that they can touch turning about the pivot (the origin) while the bodies
+    /// deform by less than `reach` \[m\] (see the module doc); the gradient is exact for all.
     #[allow(clippy::too_many_arguments)]
     pub fn deformable(
         mesh: &Mesh,
@@ -142,7 +207,7 @@ impl RigidWall {
         reach: f64,
     ) -> Result<Self, Error> {
         let mut nodes = mesh.nodes_on(face_name);
-        if nodes.len() < 2 {
+        if nodes.len() < 3 {
             return Err(Error::Mesh(format!(
                 "the mesh has no boundary named \"{face_name}\" for the wall's contact face"
             )));
@@ -150,29 +215,49 @@ impl RigidWall {
         nodes.sort_by(|a, b| mesh.nodes[*a][1].total_cmp(&mesh.nodes[*b][1]));
         let face_x = mesh.nodes[nodes[0]][0];
         let mut wall = Self::new(mesh, name, face_x, stiffness, thickness, points_per_edge)?;
-        let head = mesh.nodes_on(name);
-        let left = head.iter().map(|&n| mesh.nodes[n][0]).fold(f64::INFINITY, f64::min);
-        let near: Vec<usize> = head.into_iter().filter(|&n| mesh.nodes[n][0] < left + reach).collect();
-        let (lo, hi) = near.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &n| {
-            (lo.min(mesh.nodes[n][1]), hi.max(mesh.nodes[n][1]))
+        let y = |k: usize| mesh.nodes[nodes[k]][1];
+        let n = nodes.len();
+        let taper = [y(1) - y(0), y(n - 1) - y(n - 2)];
+        // the heights at which a head edge meets x = x_w turning about the pivot: y² = r² − x²,
+        // r within `reach` of the edge's radii, x within `reach` of x_w
+        let ax_lo = if face_x.abs() > reach {
+            face_x.abs() - reach
+        } else {
+            0.0
+        };
+        let ax_hi = face_x.abs() + reach;
+        let mut pairs = Vec::new();
+        for (edge, e) in mesh.edges_named(name).enumerate() {
+            let radii = e.nodes.map(|a| mesh.nodes[a][0].hypot(mesh.nodes[a][1]));
+            let r_lo = (radii.iter().copied().fold(f64::INFINITY, f64::min) - reach).max(0.0);
+            let r_hi = radii.iter().copied().fold(0.0, f64::max) + reach;
+            let top2 = r_hi * r_hi - ax_lo * ax_lo;
+            if top2 < 0.0 {
+                continue;
+            }
+            let (b0, b1) = ((r_lo * r_lo - ax_hi * ax_hi).max(0.0).sqrt(), top2.sqrt());
+            for j in 0..n - 1 {
+                let lo = y(j) - reach - if j == 0 { taper[0] } else { 0.0 };
+                let hi = y(j + 1) + reach + if j == n - 2 { taper[1] } else { 0.0 };
+                if (lo <= b1 && hi >= b0) || (lo <= -b0 && hi >= -b1) {
+                    pairs.push((edge, j));
+                }
+            }
+        }
+        wall.face = Some(Face {
+            nodes,
+            taper,
+            pairs,
+            reach,
         });
-        let facing = nodes
-            .iter()
-            .copied()
-            .filter(|&n| (lo - reach..=hi + reach).contains(&mesh.nodes[n][1]));
-        wall.coupled = near.iter().copied().chain(facing).map(|n| 2 * n).collect();
-        wall.coupled.sort_unstable();
-        wall.face = Some(Face { nodes });
         Ok(wall)
     }
 
-    /// The face segment `[j, j+1]` at height `y` of the current configuration, if within the face.
-    fn segment(&self, face: &Face, y: f64, u: &[f64], mesh_nodes: &[[f64; 2]]) -> Option<usize> {
-        let yy = |k: usize| mesh_nodes[face.nodes[k]][1] + u[2 * face.nodes[k] + 1];
+    /// The face segment `[j, j+1]` at height `y` of the current configuration: the end segment
+    /// below or above the face.
+    fn segment(&self, face: &Face, y: f64, u: &[f64]) -> usize {
+        let yy = |k: usize| self.reference[face.nodes[k]][1] + u[2 * face.nodes[k] + 1];
         let n = face.nodes.len();
-        if y < yy(0) || y > yy(n - 1) {
-            return None;
-        }
         // the face's heights stay in order (it deforms by micrometres)
         let (mut lo, mut hi) = (0, n - 1);
         while hi - lo > 1 {
@@ -183,18 +268,21 @@ impl RigidWall {
                 hi = mid;
             }
         }
-        Some(lo)
+        lo
     }
 
-    /// The gap of point `p` at `u` and its gradient; `seg`: the face segment to use (`None`: the
-    /// one at the point's height). `None` when the point is above or below the face.
-    fn local(&self, p: &ContactPoint, u: &[f64], seg: Option<usize>) -> Option<Local> {
+    /// The gap of point `p` at `u` and its gradient; with the face on the segment at the point's
+    /// height, with its `η` (see the module doc).
+    fn local(&self, p: &ContactPoint, u: &[f64]) -> Local {
         let ux: f64 = (0..3).map(|a| p.basis[a] * u[2 * p.nodes[a]]).sum();
         let mut l = Local {
             g: 0.0,
+            eta: -1.0,
             dofs: [0; 10],
             grad: [0.0; 10],
+            deta: [0.0; 10],
             n: 3,
+            seg: 0,
         };
         for a in 0..3 {
             l.dofs[a] = 2 * p.nodes[a];
@@ -202,16 +290,13 @@ impl RigidWall {
         }
         let Some(face) = &self.face else {
             l.g = p.x_ref + ux - self.face_x;
-            return Some(l);
+            return l;
         };
         let xy = &self.reference;
         let y: f64 = (0..3)
             .map(|a| p.basis[a] * (xy[p.nodes[a]][1] + u[2 * p.nodes[a] + 1]))
             .sum();
-        let j = match seg {
-            Some(j) => j,
-            None => self.segment(face, y, u, xy)?,
-        };
+        let j = self.segment(face, y, u);
         let (a, b) = (face.nodes[j], face.nodes[j + 1]);
         let (xa, ya) = (xy[a][0] + u[2 * a], xy[a][1] + u[2 * a + 1]);
         let (xb, yb) = (xy[b][0] + u[2 * b], xy[b][1] + u[2 * b + 1]);
@@ -226,11 +311,33 @@ impl RigidWall {
         l.dofs[6..10].copy_from_slice(&[2 * a, 2 * b, 2 * a + 1, 2 * b + 1]);
         l.grad[6..10].copy_from_slice(&[-(1.0 - s), -s, slope * (1.0 - s), slope * s]);
         l.n = 10;
-        Some(l)
+        l.seg = j;
+        // η from the nearer end: the lower node of a segment in the face's lower half, the upper
+        // node in its upper half (exactly the end node on the end segments; ≤ 0 on the face)
+        if 2 * j + 2 < face.nodes.len() {
+            l.eta = (ya - y) / face.taper[0];
+            for k in 0..3 {
+                l.deta[3 + k] = -p.basis[k] / face.taper[0];
+            }
+            l.deta[8] = 1.0 / face.taper[0];
+        } else {
+            l.eta = (y - yb) / face.taper[1];
+            for k in 0..3 {
+                l.deta[3 + k] = p.basis[k] / face.taper[1];
+            }
+            l.deta[9] = -1.0 / face.taper[1];
+        }
+        l
     }
 
+    /// The gap of `p` at `u` (`+∞` for a point beyond the taper past the face's ends).
     fn gap(&self, p: &ContactPoint, u: &[f64]) -> f64 {
-        self.local(p, u, None).map_or(f64::INFINITY, |l| l.g)
+        let l = self.local(p, u);
+        if taper(l.eta) > 0.0 {
+            l.g
+        } else {
+            f64::INFINITY
+        }
     }
 
     fn density(&self, g: f64) -> f64 {
@@ -272,19 +379,6 @@ impl RigidWall {
         }
     }
 
-    /// The face segment a point uses over a step (`Some(None)` for the rigid wall): the one at the
-    /// point's mid-step height, the same for both ends so that the secant is exact for the gap it
-    /// uses; `None` when the point is above or below the face at mid-step.
-    fn step_segment(&self, p: &ContactPoint, mid: &[f64]) -> Option<Option<usize>> {
-        let Some(face) = &self.face else {
-            return Some(None);
-        };
-        let y: f64 = (0..3)
-            .map(|a| p.basis[a] * (self.reference[p.nodes[a]][1] + mid[2 * p.nodes[a] + 1]))
-            .sum();
-        self.segment(face, y, mid, &self.reference).map(Some)
-    }
-
     /// The resultant in `+x` of the wall's force over a step from `u0` to `u1` as the scheme applies
     /// it (the secant, or the end-point force with [`RigidWall::end_point`]) \[N\]: its product with
     /// the step's length is the step's impulse.
@@ -294,7 +388,10 @@ impl RigidWall {
         }
         self.points
             .iter()
-            .map(|p| -p.weight * self.secant(self.gap(p, u0), self.gap(p, u1)))
+            .map(|p| {
+                let (l0, l1) = (self.local(p, u0), self.local(p, u1));
+                -p.weight * 0.5 * (taper(l0.eta) + taper(l1.eta)) * self.secant(l0.g, l1.g)
+            })
             .sum()
     }
 
@@ -349,8 +446,71 @@ impl RigidWall {
     pub fn normal_force(&self, u: &[f64]) -> f64 {
         self.points
             .iter()
-            .map(|p| -p.weight * self.stiffness * self.gap(p, u).min(0.0))
+            .map(|p| {
+                let l = self.local(p, u);
+                -p.weight * self.stiffness * l.g.min(0.0) * taper(l.eta)
+            })
             .sum()
+    }
+
+    /// A penetrating point whose head edge and face segment the Hessian pattern does not couple
+    /// (the bodies deformed by more than the margin of [`RigidWall::deformable`]), described for an
+    /// error message; `None` when the pattern covers every contact (always for the rigid wall).
+    pub fn uncoupled_contact(&self, u: &[f64]) -> Option<String> {
+        let face = self.face.as_ref()?;
+        self.points.iter().find_map(|p| {
+            let l = self.local(p, u);
+            let touching = l.g < 0.0 && taper(l.eta) > 0.0;
+            (touching && face.pairs.binary_search(&(p.edge, l.seg)).is_err()).then(|| {
+                let y: f64 = (0..3)
+                    .map(|a| p.basis[a] * (self.reference[p.nodes[a]][1] + u[2 * p.nodes[a] + 1]))
+                    .sum();
+                format!(
+                    "the head's contact edge {} touches the wall's face segment {} at y = {y:.6} m (penetration {:.3e} \
+                     m), a pair the fixed sparsity pattern does not couple: the pattern holds the pairs that can touch \
+                     while the bodies deform by less than {} m from a rigid turn about the pivot",
+                    p.edge, l.seg, -l.g, face.reach
+                )
+            })
+        })
+    }
+
+    /// The discrete gradient of one point's energy with the face (see the module doc), added times
+    /// `f` into `g`.
+    fn add_face_discrete_gradient(&self, p: &ContactPoint, u0: &[f64], u1: &[f64], mid: &[f64], f: f64, g: &mut [f64]) {
+        let (l0, l1) = (self.local(p, u0), self.local(p, u1));
+        if l0.g >= 0.0 && l1.g >= 0.0 {
+            return;
+        }
+        let (a0, a1) = (self.density(l0.g), self.density(l1.g));
+        let (b0, b1) = (taper(l0.eta), taper(l1.eta));
+        let (psi_d, s_d) = (self.secant(l0.g, l1.g), taper_secant(l0.eta, l1.eta));
+        let lm = self.local(p, mid);
+        let du: Vec<f64> = (0..lm.n).map(|i| u1[lm.dofs[i]] - u0[lm.dofs[i]]).collect();
+        let norm2: f64 = du.iter().map(|d| d * d).sum();
+        // the mid-step gradients corrected along Δu: ∇ᵈg·Δu = g₁ − g₀, ∇ᵈη·Δu = η₁ − η₀
+        let corrected = |grad: &[f64; 10], change: f64| -> [f64; 10] {
+            let mut out = *grad;
+            if norm2 > 0.0 {
+                let lin: f64 = (0..lm.n).map(|i| grad[i] * du[i]).sum();
+                let c = (change - lin) / norm2;
+                for i in 0..lm.n {
+                    out[i] += c * du[i];
+                }
+            }
+            out
+        };
+        let dg = corrected(&lm.grad, l1.g - l0.g);
+        let cg = f * p.weight * 0.5 * (b0 + b1) * psi_d;
+        let ce = f * p.weight * 0.5 * (a0 + a1) * s_d;
+        let deta = if ce != 0.0 {
+            corrected(&lm.deta, l1.eta - l0.eta)
+        } else {
+            [0.0; 10]
+        };
+        for i in 0..lm.n {
+            g[lm.dofs[i]] += cg * dg[i] + ce * deta[i];
+        }
     }
 }
 
@@ -362,57 +522,88 @@ impl Term for RigidWall {
     fn energy(&self, u: &[f64], _cx: &StepContext) -> f64 {
         self.points
             .iter()
-            .map(|p| p.weight * self.density(self.gap(p, u)))
+            .map(|p| {
+                let l = self.local(p, u);
+                p.weight * self.density(l.g) * taper(l.eta)
+            })
             .sum()
     }
 
     fn add_gradient(&self, u: &[f64], _cx: &StepContext, g: &mut [f64]) {
         for p in &self.points {
-            let Some(l) = self.local(p, u, None) else {
+            let l = self.local(p, u);
+            if l.g >= 0.0 {
                 continue;
-            };
-            let f = p.weight * self.stiffness * l.g.min(0.0);
+            }
+            let s = taper(l.eta);
+            let f = p.weight * self.stiffness * l.g * s;
+            let fe = p.weight * self.density(l.g) * taper_slope(l.eta);
             for i in 0..l.n {
-                g[l.dofs[i]] += f * l.grad[i];
+                g[l.dofs[i]] += f * l.grad[i] + fe * l.deta[i];
             }
         }
     }
 
-    /// `k w ∇g ∇gᵀ` of the penetrating points (for the deformable face without the gap's own
-    /// curvature, and only in the coupled entries: an approximate Jacobian, as Newton allows).
+    /// `k w s ∇g ∇gᵀ` of the penetrating points (for the deformable face without the gap's own
+    /// curvature and the taper's derivatives: an approximate Jacobian, as Newton allows), into
+    /// the pairs the pattern couples (see the module doc; a contact outside them is reported by
+    /// [`RigidWall::uncoupled_contact`], which the simulation checks after every step).
     fn add_hessian(&self, u: &[f64], _cx: &StepContext, pattern: &Pattern, values: &mut [f64]) {
         for p in &self.points {
-            let Some(l) = self.local(p, u, None).filter(|l| l.g < 0.0) else {
+            let l = self.local(p, u);
+            let s = taper(l.eta);
+            if l.g >= 0.0 || s == 0.0 {
                 continue;
-            };
-            let c = p.weight * self.stiffness;
+            }
+            let c = p.weight * self.stiffness * s;
             for i in 0..l.n {
                 for j in 0..l.n {
                     let (r, col) = (l.dofs[i], l.dofs[j]);
                     if r > col {
                         continue;
                     }
-                    match pattern.position(r, col) {
-                        Some(pos) => values[pos] += c * l.grad[i] * l.grad[j],
-                        None => debug_assert!(self.face.is_some(), "the nodes of an edge share an element"),
+                    if let Some(pos) = pattern.position(r, col) {
+                        values[pos] += c * l.grad[i] * l.grad[j];
                     }
                 }
             }
         }
     }
 
+    /// The rigid wall: none (an edge's nodes share an element). The face: every pair of a head
+    /// edge's and a face segment's degrees of freedom over the coupled pairs (see the module doc).
     fn hessian_entries(&self) -> Vec<(usize, usize)> {
-        super::dense_block(&self.coupled)
+        let Some(face) = &self.face else {
+            return Vec::new();
+        };
+        let edges: Vec<[usize; 3]> = {
+            let mut e: Vec<(usize, [usize; 3])> = self.points.iter().map(|p| (p.edge, p.nodes)).collect();
+            e.dedup();
+            e.into_iter().map(|(_, n)| n).collect()
+        };
+        let mut entries = Vec::new();
+        for &(edge, j) in &face.pairs {
+            let head = edges[edge].iter().flat_map(|&a| [2 * a, 2 * a + 1]);
+            for r in head {
+                for b in [face.nodes[j], face.nodes[j + 1]] {
+                    for c in [2 * b, 2 * b + 1] {
+                        entries.push((r.min(c), r.max(c)));
+                    }
+                }
+            }
+        }
+        entries.sort_unstable();
+        entries.dedup();
+        entries
     }
 
-    /// The Jacobian of the secant force over the step: `factor · w ∂ψ_d/∂g₁ ∇g ∇gᵀ` per point
-    /// ([`RigidWall::secant_slope`]; for the deformable face with the gap's gradient at the end of
-    /// the step, without the gap's own curvature). The Hessian at the end of the step, `k w ∇g ∇gᵀ`
-    /// of the penetrating points, is twice too stiff while both ends penetrate (`factor` = 2 puts
-    /// that right) and wrong across the face: a point that just enters gets `k` where the secant
-    /// is nearly flat, a point that leaves gets 0 where the secant still pushes; Newton then
-    /// contracts by only `1 − ∂ψ_d/∂g₁ / k` per iteration, or oscillates between penetrating and
-    /// apart.
+    /// The rigid wall's Jacobian of the secant force over the step, `factor · w ∂ψ_d/∂g₁ ∇g ∇gᵀ`
+    /// per point ([`RigidWall::secant_slope`]; `g` is linear in `u`, so this is exact). The Hessian
+    /// at the end of the step, `k w ∇g ∇gᵀ` of the penetrating points, is wrong across the wall: a
+    /// point that just enters gets `k` where the secant is nearly flat, a point that leaves gets 0
+    /// where the secant still pushes; Newton then contracts by only `1 − ∂ψ_d/∂g₁ / k` per
+    /// iteration, or oscillates between penetrating and apart (the stiff contacts of
+    /// `tests/robustness.rs` did). The deformable face and the end-point force keep the Hessian.
     fn add_discrete_hessian(
         &self,
         start: &StepStart,
@@ -422,35 +613,21 @@ impl Term for RigidWall {
         pattern: &Pattern,
         values: &mut [f64],
     ) -> bool {
-        if self.end_point {
+        if self.end_point || self.face.is_some() {
             return false;
         }
-        let mid: Vec<f64> = match self.face {
-            Some(_) => start.u.iter().zip(u1).map(|(a, b)| 0.5 * (a + b)).collect(),
-            None => Vec::new(),
-        };
         for p in &self.points {
-            let Some(seg) = self.step_segment(p, &mid) else {
-                continue;
-            };
-            let (Some(l0), Some(l1)) = (self.local(p, start.u, seg), self.local(p, u1, seg)) else {
-                continue;
-            };
+            let (l0, l1) = (self.local(p, start.u), self.local(p, u1));
             let slope = self.secant_slope(l0.g, l1.g);
             if slope == 0.0 {
                 continue;
             }
             let c = factor * p.weight * slope;
             for i in 0..l1.n {
-                for j in 0..l1.n {
-                    let (r, col) = (l1.dofs[i], l1.dofs[j]);
-                    if r > col {
-                        continue;
-                    }
-                    match pattern.position(r, col) {
-                        Some(pos) => values[pos] += c * l1.grad[i] * l1.grad[j],
-                        None => debug_assert!(self.face.is_some(), "the nodes of an edge share an element"),
-                    }
+                for j in i..l1.n {
+                    let (r, col) = (l1.dofs[i].min(l1.dofs[j]), l1.dofs[i].max(l1.dofs[j]));
+                    let pos = pattern.position(r, col).expect("the nodes of an edge share an element");
+                    values[pos] += c * l1.grad[i] * l1.grad[j];
                 }
             }
         }
@@ -467,17 +644,21 @@ impl Term for RigidWall {
         factor: f64,
         g: &mut [f64],
     ) -> f64 {
-        let mid: Vec<f64> = match self.face {
-            Some(_) => start.u.iter().zip(u1).map(|(a, b)| 0.5 * (a + b)).collect(),
-            None => Vec::new(),
-        };
+        if self.face.is_some() && self.end_point {
+            let mut own = vec![0.0; g.len()];
+            self.add_gradient(u1, cx, &mut own);
+            g.iter_mut().zip(&own).for_each(|(a, b)| *a += factor * b);
+            return self.energy(u1, cx);
+        }
+        if self.face.is_some() {
+            let mid: Vec<f64> = start.u.iter().zip(u1).map(|(a, b)| 0.5 * (a + b)).collect();
+            for p in &self.points {
+                self.add_face_discrete_gradient(p, start.u, u1, &mid, factor, g);
+            }
+            return self.energy(u1, cx);
+        }
         for p in &self.points {
-            let Some(seg) = self.step_segment(p, &mid) else {
-                continue;
-            };
-            let (Some(l0), Some(l1)) = (self.local(p, start.u, seg), self.local(p, u1, seg)) else {
-                continue;
-            };
+            let (l0, l1) = (self.local(p, start.u), self.local(p, u1));
             let secant = if self.end_point {
                 self.stiffness * l1.g.min(0.0)
             } else {
@@ -487,24 +668,8 @@ impl Term for RigidWall {
                 continue;
             }
             let f = factor * p.weight * secant;
-            let mut grad = l1.grad;
-            if self.face.is_some() && !self.end_point {
-                // a discrete gradient of the gap (it is nonlinear in u for the deformable face):
-                // the mid-step gradient corrected along Δu so that ∇ᵈg·Δu = g₁ − g₀ exactly
-                let lm = self.local(p, &mid, seg).expect("the segment exists at mid-step");
-                let du: Vec<f64> = (0..l1.n).map(|i| u1[l1.dofs[i]] - start.u[l1.dofs[i]]).collect();
-                let lin: f64 = (0..l1.n).map(|i| lm.grad[i] * du[i]).sum();
-                let norm2: f64 = du.iter().map(|d| d * d).sum();
-                grad = lm.grad;
-                if norm2 > 0.0 {
-                    let c = (l1.g - l0.g - lin) / norm2;
-                    for i in 0..l1.n {
-                        grad[i] += c * du[i];
-                    }
-                }
-            }
             for i in 0..l1.n {
-                g[l1.dofs[i]] += f * grad[i];
+                g[l1.dofs[i]] += f * l1.grad[i];
             }
         }
         self.energy(u1, cx)
