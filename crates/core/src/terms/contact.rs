@@ -597,13 +597,14 @@ impl Term for RigidWall {
         entries
     }
 
-    /// The rigid wall's Jacobian of the secant force over the step, `factor · w ∂ψ_d/∂g₁ ∇g ∇gᵀ`
-    /// per point ([`RigidWall::secant_slope`]; `g` is linear in `u`, so this is exact). The Hessian
+    /// The Jacobian of the secant force over the step, `factor · w ∂ψ_d/∂g₁ ∇g ∇gᵀ` per point
+    /// ([`RigidWall::secant_slope`]; exact for the rigid wall, whose `g` is linear in `u`; for the
+    /// deformable face with the taper and gradient at the end of the step). The Hessian
     /// at the end of the step, `k w ∇g ∇gᵀ` of the penetrating points, is wrong across the wall: a
     /// point that just enters gets `k` where the secant is nearly flat, a point that leaves gets 0
     /// where the secant still pushes; Newton then contracts by only `1 − ∂ψ_d/∂g₁ / k` per
     /// iteration, or oscillates between penetrating and apart (the stiff contacts of
-    /// `tests/robustness.rs` did). The deformable face and the end-point force keep the Hessian.
+    /// `tests/robustness.rs` did). The end-point force keeps the Hessian.
     fn add_discrete_hessian(
         &self,
         start: &StepStart,
@@ -613,12 +614,15 @@ impl Term for RigidWall {
         pattern: &Pattern,
         values: &mut [f64],
     ) -> bool {
-        if self.end_point || self.face.is_some() {
+        if self.end_point {
             return false;
         }
         for p in &self.points {
             let (l0, l1) = (self.local(p, start.u), self.local(p, u1));
-            let slope = self.secant_slope(l0.g, l1.g);
+            // the face: the taper at the end of the step, without its derivatives and the gap's
+            // curvature (as in the Hessian)
+            let s = if self.face.is_some() { taper(l1.eta) } else { 1.0 };
+            let slope = self.secant_slope(l0.g, l1.g) * s;
             if slope == 0.0 {
                 continue;
             }
@@ -626,8 +630,12 @@ impl Term for RigidWall {
             for i in 0..l1.n {
                 for j in i..l1.n {
                     let (r, col) = (l1.dofs[i].min(l1.dofs[j]), l1.dofs[i].max(l1.dofs[j]));
-                    let pos = pattern.position(r, col).expect("the nodes of an edge share an element");
-                    values[pos] += c * l1.grad[i] * l1.grad[j];
+                    match pattern.position(r, col) {
+                        Some(pos) => values[pos] += c * l1.grad[i] * l1.grad[j],
+                        // outside the face's coupled pairs: RigidWall::uncoupled_contact stops the
+                        // step after it
+                        None => debug_assert!(self.face.is_some(), "the nodes of an edge share an element"),
+                    }
                 }
             }
         }
