@@ -127,7 +127,7 @@ pub const ROUNDING_FACTOR: f64 = 10.0;
 /// A residual that has stopped contracting is at the rounding of the forces in play when it is
 /// below this fraction of them: the largest nodal sum of the magnitudes of every term's force
 /// (elastic, inertia, gravity, torque, contact) and of the hinge reaction
-/// ([`Solver::forces_in_play`]). The internal forces of a stiff body are differences of terms of
+/// (`Solver::forces_in_play`). The internal forces of a stiff body are differences of terms of
 /// size `K |x|` and its stresses differences of strains near zero, so their rounding is far above
 /// `ε` of the force itself; measured stagnation levels reach 1e-9 of the forces in play (see
 /// `tests/robustness.rs`), while an unconverged step leaves a residual of order 1e-3 or more of

@@ -598,7 +598,7 @@ impl Term for RigidWall {
     }
 
     /// The Jacobian of the secant force over the step, `factor · w ∂ψ_d/∂g₁ ∇g ∇gᵀ` per point
-    /// ([`RigidWall::secant_slope`]; exact for the rigid wall, whose `g` is linear in `u`; for the
+    /// (`RigidWall::secant_slope`; exact for the rigid wall, whose `g` is linear in `u`; for the
     /// deformable face with the taper and gradient at the end of the step). The Hessian
     /// at the end of the step, `k w ∇g ∇gᵀ` of the penetrating points, is wrong across the wall: a
     /// point that just enters gets `k` where the secant is nearly flat, a point that leaves gets 0
