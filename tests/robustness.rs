@@ -405,8 +405,9 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
             slowest = (m.seconds, *index);
         }
     }
-    println!(
-        "{} cases (seed {seed}, from {first}) in {:.1} s: {} passed, {} failed; {steps} steps; slowest case {} ({:.1} s)",
+    let mut report = format!(
+        "{} cases (seed {seed}, from {first}) in {:.1} s: {} passed, {} failed; {steps} steps; slowest passing case {} ({:.1} s)\n\
+         Newton iterations per output step: {histogram:?}\ncut-backs per case: {cutback_cases:?}\n",
         cases,
         started.elapsed().as_secs_f64(),
         measured.len(),
@@ -414,8 +415,6 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
         slowest.1,
         slowest.0
     );
-    println!("Newton iterations per output step: {histogram:?}");
-    println!("cut-backs per case: {cutback_cases:?}");
     let _ = std::fs::remove_dir_all(&root);
     let (known, failures): (Vec<_>, Vec<_>) = failures
         .into_inner()
@@ -423,7 +422,7 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
         .into_iter()
         .partition(|(i, _, _)| seed == 17 && KNOWN_OPEN.iter().any(|(k, _)| k == i));
     for (i, why, _) in &known {
-        println!("known open case {i} (issue 17): {why}");
+        report.push_str(&format!("known open case {i} (issue 17): {why}\n"));
     }
     let open_passed: Vec<usize> = KNOWN_OPEN
         .iter()
@@ -431,8 +430,17 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
         .filter(|k| (first..first + cases).contains(k) && seed == 17 && !known.iter().any(|(i, _, _)| i == k))
         .collect();
     if !open_passed.is_empty() {
-        println!("known open cases that passed this time: {open_passed:?}");
+        report.push_str(&format!("known open cases that passed this time: {open_passed:?}\n"));
     }
+    for (i, why, _) in &failures {
+        report.push_str(&format!("FAILED case {i}: {why}\n"));
+    }
+    // printed, and kept for CI's log (a passing test's output is captured)
+    print!("{report}");
+    let _ = std::fs::write(
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("robustness-report.txt"),
+        &report,
+    );
     assert!(
         failures.is_empty(),
         "{} of {cases} cases failed:\n{}",

@@ -337,6 +337,13 @@ impl Model {
         self.mass_kg() * self.config.gravity.g.abs() * (d + h0.abs())
     }
 
+    /// The floor of every energy scale \[J\]: `10⁻³ m g₀ L` (`m` the pendulum's mass, `L` its
+    /// largest distance from the pivot, `g₀ = 9.81 m/s²` also when gravity is off), a thousandth of
+    /// the work to lift the body by its own length, for a body that nothing moves.
+    pub fn energy_floor(&self) -> f64 {
+        1e-3 * self.mass_kg() * 9.81 * self.length_scale()
+    }
+
     /// Moment of inertia of the pendulum about the pivot \[kg m²\].
     pub fn inertia_pivot(&self) -> f64 {
         self.config.material.density * self.config.geometry.thickness * self.projection.polar
@@ -1105,7 +1112,9 @@ impl Simulation {
             weight * m.length_scale(),
             m.applied_torque(t_new, self.held_torque),
         );
-        let energy_bound = m.config.solver.energy_tolerance * scale;
+        // never below the energy floor: a body that nothing moves (no gravity, no torque, at rest)
+        // has a scale of 0, and its balance could only be met exactly
+        let energy_bound = m.config.solver.energy_tolerance * scale.max(m.energy_floor());
         let settings = NewtonSettings {
             tolerance: m.config.solver.tolerance,
             max_iterations: m.config.solver.max_iterations,

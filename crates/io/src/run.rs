@@ -650,9 +650,6 @@ pub struct EnergyAudit {
     largest_defect: f64,
 }
 
-/// `g₀` of the energy floor \[m/s²\].
-const STANDARD_GRAVITY: f64 = 9.81;
-
 impl EnergyAudit {
     /// An audit with the given floor of the energy scale and the weight times the centroid's
     /// possible height change ([`crate::simulation::Model::potential_range`]) \[J\].
@@ -674,7 +671,7 @@ impl EnergyAudit {
 
     /// The floor `10⁻³ m g₀ L` of a model \[J\].
     pub fn floor_of(model: &crate::simulation::Model) -> f64 {
-        1e-3 * model.mass_kg() * STANDARD_GRAVITY * model.length_scale()
+        model.energy_floor()
     }
 
     /// Takes the next record; returns its energy error judged with the scale so far.
