@@ -107,7 +107,7 @@ fn without_gravity_the_energy_error_is_finite_and_small() {
 fn the_energy_scale_floor_is_a_thousandth_of_lifting_the_body_by_its_length() {
     let cfg = config(&["gravity.g=0"]);
     let model = Model::new(&cfg, mesh::generate(&cfg).unwrap()).unwrap();
-    let floor = EnergyAudit::floor_of(&model);
+    let floor = model.energy_floor();
     assert_eq!(floor, 1e-3 * model.mass_kg() * 9.81 * model.length_scale());
     // without gravity there is no potential to fall through: the floor is the scale
     assert_eq!(model.potential_range(), 0.0);

@@ -1263,13 +1263,12 @@ impl Simulation {
         let t0 = self.state.t;
         let (omega, alpha) = self.angular_rates();
         let turn = omega.abs() * dt + 0.5 * alpha.abs() * dt * dt;
-        let limit = self.model.config.time.max_rotation_deg.to_radians();
         // the energy-momentum scheme conserves at any step, but its step must turn the body by
         // less than half a turn (the hub and proxy angles are unwrapped step to step, and Newton's
         // rotated tangent degrades long before): a quarter turn at most per sub-step
         let limit = match self.model.scheme {
             Scheme::EnergyMomentum => EM_MAX_TURN,
-            _ => limit,
+            _ => self.model.config.time.max_rotation_deg.to_radians(),
         };
         let substeps = ((turn / limit).ceil() as usize).max(1).next_power_of_two();
         let h = dt / substeps as f64;

@@ -626,17 +626,16 @@ fn run_steps(
 /// The **energy error** at step n is `|ΔE − W| / scale`, with `ΔE = E_total(tₙ) − E_total(0)` and
 /// `W` the work of the torque up to tₙ (`torque_work_J`): without external work the total energy is
 /// conserved, so whatever remains is the integrator's (or a divergence's) doing. The **energy
-/// scale** is the energy the run has available: the initial kinetic
-/// energy, plus the weight times the largest change of the centroid's height that the swing
-/// allows ([`Model::potential_range`]), plus the largest |W| so far; never below a floor of `10⁻³ m g₀ L` (`m` the mass, `L`
-/// the largest distance of a node from the pivot, `g₀ = 9.81 m/s²` even when `gravity.g = 0`: a
-/// thousandth of the work to lift the body by its own length), for a body that has nothing to
-/// move it. The scale is known from the first step on (only the torque's work can raise it), so
+/// scale** is the energy the run has available: the initial kinetic energy, plus the weight times
+/// the largest change of the centroid's height that the swing allows ([`Model::potential_range`]),
+/// plus the largest |W| so far; never below the floor `10⁻³ m g₀ L` ([`Model::energy_floor`]), for
+/// a body that has nothing to move it. The scale is known from the first step on (only the torque's work can raise it), so
 /// the watchdog judges the first steps of a swing by what the swing has available, not by the
 /// little kinetic energy it has gained so far (the tutorial's zero start loses 1.2e-4 J in its
 /// first step, 3e-5 of its available 3.75 J).
 ///
 /// [`Model::potential_range`]: crate::simulation::Model::potential_range
+/// [`Model::energy_floor`]: crate::simulation::Model::energy_floor
 #[derive(Clone, Debug)]
 pub struct EnergyAudit {
     first: Option<StepRecord>,
@@ -666,12 +665,7 @@ impl EnergyAudit {
 
     /// The audit of a run of `model`.
     pub fn of(model: &crate::simulation::Model) -> Self {
-        Self::new(Self::floor_of(model), model.potential_range())
-    }
-
-    /// The floor `10⁻³ m g₀ L` of a model \[J\].
-    pub fn floor_of(model: &crate::simulation::Model) -> f64 {
-        model.energy_floor()
+        Self::new(model.energy_floor(), model.potential_range())
     }
 
     /// Takes the next record; returns its energy error judged with the scale so far.

@@ -103,6 +103,25 @@ struct Local {
     seg: usize,
 }
 
+impl Local {
+    /// `values += c ∇g ∇gᵀ` in the upper triangle of `pattern`. Pairs outside the pattern occur
+    /// only on the deformable face (beyond its coupled pairs), where
+    /// [`RigidWall::uncoupled_contact`] stops the step after it; they are skipped.
+    fn add_outer(&self, c: f64, pattern: &Pattern, values: &mut [f64]) {
+        for i in 0..self.n {
+            for j in 0..self.n {
+                let (r, col) = (self.dofs[i], self.dofs[j]);
+                if r > col {
+                    continue;
+                }
+                if let Some(pos) = pattern.position(r, col) {
+                    values[pos] += c * self.grad[i] * self.grad[j];
+                }
+            }
+        }
+    }
+}
+
 /// The taper `s(η)` of the face's ends (see the module doc).
 fn taper(eta: f64) -> f64 {
     let e = eta.clamp(0.0, 1.0);
@@ -555,18 +574,7 @@ impl Term for RigidWall {
             if l.g >= 0.0 || s == 0.0 {
                 continue;
             }
-            let c = p.weight * self.stiffness * s;
-            for i in 0..l.n {
-                for j in 0..l.n {
-                    let (r, col) = (l.dofs[i], l.dofs[j]);
-                    if r > col {
-                        continue;
-                    }
-                    if let Some(pos) = pattern.position(r, col) {
-                        values[pos] += c * l.grad[i] * l.grad[j];
-                    }
-                }
-            }
+            l.add_outer(p.weight * self.stiffness * s, pattern, values);
         }
     }
 
@@ -620,24 +628,12 @@ impl Term for RigidWall {
         for p in &self.points {
             let (l0, l1) = (self.local(p, start.u), self.local(p, u1));
             // the face: the taper at the end of the step, without its derivatives and the gap's
-            // curvature (as in the Hessian)
-            let s = if self.face.is_some() { taper(l1.eta) } else { 1.0 };
-            let slope = self.secant_slope(l0.g, l1.g) * s;
+            // curvature (as in the Hessian); 1 for the rigid wall
+            let slope = self.secant_slope(l0.g, l1.g) * taper(l1.eta);
             if slope == 0.0 {
                 continue;
             }
-            let c = factor * p.weight * slope;
-            for i in 0..l1.n {
-                for j in i..l1.n {
-                    let (r, col) = (l1.dofs[i].min(l1.dofs[j]), l1.dofs[i].max(l1.dofs[j]));
-                    match pattern.position(r, col) {
-                        Some(pos) => values[pos] += c * l1.grad[i] * l1.grad[j],
-                        // outside the face's coupled pairs: RigidWall::uncoupled_contact stops the
-                        // step after it
-                        None => debug_assert!(self.face.is_some(), "the nodes of an edge share an element"),
-                    }
-                }
-            }
+            l1.add_outer(factor * p.weight * slope, pattern, values);
         }
         true
     }

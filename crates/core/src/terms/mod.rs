@@ -270,8 +270,8 @@ impl Term for Linear {
 /// A term's discrete gradient over one step as a term of the energy-momentum system
 /// ([`crate::energy_momentum`]): gradient `gradient_factor · ∇ᵈΠ(u₀, u)`, and as its approximate
 /// Jacobian the term's own Jacobian of the discrete gradient where it has one
-/// ([`Term::add_discrete_hessian`]), otherwise `hessian_factor · ∇²Π(u)`. Its "energy" only flags inadmissible states (`+∞`): the
-/// energy-momentum system has no potential.
+/// ([`Term::add_discrete_hessian`]), otherwise `hessian_factor · ∇²Π(u)`. Its "energy" only flags
+/// inadmissible states (`+∞`): the energy-momentum system has no potential.
 pub struct DiscreteGradient<'a> {
     /// The term.
     pub term: &'a dyn Term,
