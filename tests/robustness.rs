@@ -210,35 +210,40 @@ fn draw(seed: u64, index: usize) -> Case {
     Case { index, toml, contact }
 }
 
-/// Cases of seed 17 that still fail (issue 17 is open on them), with what they did when last run:
-/// they are run and their outcome is printed, but not asserted, so that the campaign guards every
-/// other case. All but one strike a wall (a stiff contact, 1e11 to 4e12 N/m³, or a soft block):
-/// inside impacts Newton's approximate Jacobian of the energy-momentum system contracts only
-/// linearly (by about 0.5 per iteration), so steps are cut back many times and the case runs for
-/// minutes, or fails after `solver.max_cutbacks`. The other (10) is a light plate spun to about
-/// 1800 rad/s: it passes in 41 s alone, but its quarter-turn sub-steps take 12,000 Newton
-/// iterations and beside a second case it runs past the time limit. A long campaign
-/// (`ROBUST_CASES=N`, any seed) asserts every case.
+/// Cases of seed 17 that still fail (issue 17 is open on them), with what they did when last run
+/// (beside a second case, as in CI): they are run and their outcome is printed with their
+/// configuration, but not asserted, so that the campaign guards every other case. All but one
+/// strike a wall. What is known of them: inside an impact Newton's symmetric approximation of the
+/// energy-momentum Jacobian is accurate (a finite-difference check along the update agrees to
+/// 1e-3 for the contact and 2–10 % for the strain energy), yet it contracts by only 0.2–0.5 per
+/// iteration while contact points change state, and with a stiff contact the sub-steps are a few
+/// microseconds long; after a blow a stiff Saint Venant–Kirchhoff plate spinning at 70–90 rad/s
+/// (cases 2 and 3) starts its steps with residuals of 1e4 N and is cut back to a sixteenth of its
+/// step; a soft Neo-Hookean head (case 7, and case 20 beyond the CI range) can cycle between two
+/// iterates at a contact point. The other (10) is a light plate spun to about 1800 rad/s: it
+/// passes in 41 s alone, but its quarter-turn sub-steps take 12,000 Newton iterations and beside
+/// a second case it runs past the time limit. A long campaign (`ROBUST_CASES=N`, any seed)
+/// asserts every case.
 const KNOWN_OPEN: &[(usize, &str)] = &[
     (
         0,
-        "SVK E = 2e9 Pa against a 33 MPa deformable block, dt 1.1 ms: 42 cut-backs, not done in 120 s",
+        "SVK E = 2e9 Pa against a 33 MPa deformable block, dt 1.1 ms: at t = 0.90 s of 1.99 after 120 s, 32 cut-backs",
     ),
     (
         2,
-        "SVK E = 5e10 Pa, rigid wall k = 4.4e12 N/m³, dt 11 ms: 124 cut-backs, not done in 120 s",
+        "SVK E = 5e10 Pa, rigid wall k = 4.4e12 N/m³, dt 11 ms, spun to 90 rad/s: at t = 0.74 s of 1.62 after 120 s, 124 cut-backs",
     ),
     (
         3,
-        "SVK E = 2e10 Pa, rigid wall k = 1.7e12 N/m³, dt 10 ms: 112 cut-backs, not done in 120 s",
+        "SVK E = 2e10 Pa, rigid wall k = 1.7e12 N/m³, dt 10 ms: at t = 0.63 s of 1.97 after 120 s, 82 cut-backs",
     ),
     (
         7,
-        "NH E = 2e7 Pa, rigid wall k = 1.2e12 N/m³, dt 16 ms: Newton fails in an impact after 6 cut-backs",
+        "NH E = 2e7 Pa, rigid wall k = 1.2e12 N/m³, dt 16 ms: Newton fails in an impact at t = 0.418 s after 6 cut-backs",
     ),
     (
         9,
-        "NH E = 1.2e8 Pa, rigid wall k = 1.5e11 N/m³, dt 2.8 ms: 48 cut-backs, not done in 120 s",
+        "NH E = 1.2e8 Pa, rigid wall k = 1.5e11 N/m³, dt 2.8 ms: at t = 1.10 s of 1.78 after 120 s, 26 cut-backs",
     ),
     (10, "no wall; a torque spins a 70 g plate to ~1800 rad/s at dt 13 ms: quarter-turn sub-steps, 41 s alone, not done in 120 s beside another case"),
 ];
@@ -426,6 +431,10 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
         .partition(|(i, _, _)| seed == 17 && KNOWN_OPEN.iter().any(|(k, _)| k == i));
     for (i, why, _) in &known {
         report.push_str(&format!("known open case {i} (issue 17): {why}\n"));
+    }
+    // the known open cases as configuration files, to be run with `pendulum-fem run --config`
+    for (i, _, toml) in &known {
+        report.push_str(&format!("--- known open case {i}\n{toml}"));
     }
     let open_passed: Vec<usize> = KNOWN_OPEN
         .iter()

@@ -143,6 +143,10 @@ pub const STALLED_ENERGY: f64 = 100.0;
 /// A reused factorisation must reduce the residual at least by this factor per iteration.
 pub const REFACTOR_CONTRACTION: f64 = 0.5;
 
+/// [`Solver::solve`] renews a reused factorisation when, at its last contraction, it would need
+/// more than this many further iterations to meet the convergence criteria.
+pub const REUSE_HORIZON: f64 = 5.0;
+
 /// `angle` wrapped into `[−π, π]` (the representative closest to 0, [`crate::post::unwrap_near`]).
 pub fn wrap_angle(angle: f64) -> f64 {
     crate::post::unwrap_near(angle, 0.0)
@@ -664,6 +668,20 @@ impl Solver {
                 if admissible && (r < r_prev || r <= bound) {
                     break Some((lam_trial, r));
                 }
+                // Deuflhard's natural monotonicity test: the simplified correction at the trial
+                // point (the same factorisation) is shorter, in the tangent's energy norm, than
+                // the correction that led there. Inside an impact the largest nodal residual
+                // moves between nodes from one iterate to the next (the contact's active points
+                // change), and a full step that the norm of the tangent shows to be sound was
+                // halved again and again by the maximum norm alone.
+                if admissible {
+                    let trial = std::mem::take(&mut self.trial);
+                    let (_, _, simplified) = self.constrained_solve(&trial, dphi, settings.residual_turn);
+                    self.trial = trial;
+                    if simplified.abs() <= (1.0 - 0.25 * step).powi(2) * decrement.abs() {
+                        break Some((lam_trial, r));
+                    }
+                }
                 if !factor_at_u || step < 1e-3 {
                     break None;
                 }
@@ -690,16 +708,28 @@ impl Solver {
             // residual bound is loose for the energy (at 1e-4 of the nodal loads, a fast spin's
             // balance can stall at 1e-8 of its energy per step), a fresh tangent is not.
             let mut renew = false;
+            // how far the criteria are from being met, as a factor (≤ 1: met)
+            let mut distance = r / bound;
             let balanced = match energy {
                 Some((u0, limit)) => {
                     let e = (0..n).map(|i| (u[i] - u0[i]) * self.g[i]).sum::<f64>().abs() * 0.5;
                     let stalled = r_prev <= bound && e >= 0.5 * e_prev;
                     e_prev = e;
                     renew = e > limit && stalled && !factor_at_u;
+                    distance = distance.max(e / limit);
                     e <= limit || (stalled && factor_at_u && e <= STALLED_ENERGY * limit)
                 }
                 None => true,
             };
+            // a reused factorisation whose contraction would need more than REUSE_HORIZON further
+            // iterations to meet the criteria is renewed: inside an impact it contracts steadily
+            // but slowly (0.3–0.5 per iteration, the contact's and the strain's change since it
+            // was made), and a step then ran out of iterations with its residual far below the
+            // forces in play, to be cut back again and again; a fresh tangent contracts by 0.01–0.1
+            if !factor_at_u && distance > 1.0 && r_prev > 0.0 {
+                let contraction = r / r_prev;
+                renew |= contraction >= 1.0 || distance.ln() > REUSE_HORIZON * -contraction.ln();
+            }
             if step == 1.0
                 && decrement.abs() < settings.tolerance
                 && balanced

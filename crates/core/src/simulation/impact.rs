@@ -145,6 +145,7 @@ impl Simulation {
         // a remainder below a millionth of the step is rounding of the sub-step sum
         while t_end - self.state.t > 1e-9 * dt {
             let remaining = t_end - self.state.t;
+            let flight = self.flight_acceleration();
             let wall = self.model.wall.as_ref().expect("resolves_impacts checked the wall");
             let s = &self.state;
             let h = match self.contact_phase {
@@ -153,7 +154,7 @@ impl Simulation {
                     self.begin_contact();
                     continue;
                 }
-                None => match wall.first_touch(&s.u, &s.v, &s.a, remaining) {
+                None => match wall.first_touch(&s.u, &s.v, &flight, remaining) {
                     // land on the wall. The landing step's trajectory differs a little from the
                     // free flight (12 µm short of the wall for the tutorial's swing), so the touch
                     // is predicted again from where it landed, at most 4 times, until it is within
@@ -195,6 +196,26 @@ impl Simulation {
             }
         }
         Ok(its)
+    }
+
+    /// The acceleration of every node in the free flight that predicts the next touch: the rigid
+    /// body's about the pivot, `α e_z × x − ω² x` with the best-fit rates (zero at the other
+    /// bodies' nodes). Not the nodes' own accelerations: after a blow a stiff plate rings, and its
+    /// nodes' accelerations (of order 1e5 m/s² for steel) extrapolated over a whole output step
+    /// predicted touches that never came, one after another, each resolved in the impact's
+    /// sub-steps (a spinning steel plate's output step of 11 ms took 1500 sub-steps of 2 µs). A
+    /// touch that the rigid flight does not foresee (the ringing itself) is still caught: the step
+    /// that crosses the wall is retaken up to the crossing.
+    fn flight_acceleration(&mut self) -> Vec<f64> {
+        let (omega, alpha) = self.angular_rates();
+        let x = self.model.positions(&self.state.u);
+        let mut a = vec![0.0; x.len()];
+        for n in 0..self.model.bodies[0].nodes.end {
+            let (px, py) = (x[2 * n], x[2 * n + 1]);
+            a[2 * n] = -alpha * py - omega * omega * px;
+            a[2 * n + 1] = alpha * px - omega * omega * py;
+        }
+        a
     }
 
     /// A contact that the fixed sparsity pattern does not cover is an error naming it (see
