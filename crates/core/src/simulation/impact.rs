@@ -3,11 +3,11 @@
 //! With `contact.method = "energy-consistent"` (the energy-momentum scheme with the secant contact
 //! force of [`crate::terms::contact`]), one output step of length `Δt` is advanced as follows:
 //!
-//! 1. **Apart**: the gap of every contact point along the free flight `x + s v + ½ s² a` of the
-//!    step's start state is quadratic in `s`, so the first time it reaches zero is known in closed
-//!    form ([`RigidWall::first_touch`]). No touch within the step: one step. A touch at `s`: a step
+//! 1. **Apart**: every contact point moves on its circle about the pivot as the body turns rigidly
+//!    by `ω s + ½ α s²` from the step's start (the best-fit rates), so the first time a point
+//!    reaches the wall's face is known in closed form ([`RigidWall::first_touch`]). No touch within the step: one step. A touch at `s`: a step
 //!    of length `s` lands the head on the wall; predicted again from there (the step's trajectory
-//!    is not exactly the free flight), up to four landings bring the head to within `1e-6 Δt` of the
+//!    is not exactly the rigid flight), up to four landings bring the head to within `1e-6 Δt` of the
 //!    touch (to a fraction of a micrometre).
 //! 2. **In contact** (from the touch until no point penetrates): sub-steps of length
 //!    `h = τ / contact.substeps`, where `τ = δ_max / v` is the contact's time scale, `v` the approach
@@ -33,7 +33,7 @@
 //!    penetration last returned to zero. The rest of the output step follows in one step (or
 //!    again 1. if the head comes back).
 //!
-//! Should a step that started apart end inside the wall anyway (a touch the free flight did not
+//! Should a step that started apart end inside the wall anyway (a touch the rigid flight did not
 //! foresee), it is taken again up to the first crossing of the straight path between its ends
 //! ([`RigidWall::first_crossing`]). Every impact is reported by its start (the touch) and end (the
 //! time at which the largest penetration returns to zero, interpolated in the last sub-step) with
@@ -145,7 +145,7 @@ impl Simulation {
         // a remainder below a millionth of the step is rounding of the sub-step sum
         while t_end - self.state.t > 1e-9 * dt {
             let remaining = t_end - self.state.t;
-            let flight = self.flight_acceleration();
+            let (omega, alpha) = self.angular_rates();
             let wall = self.model.wall.as_ref().expect("resolves_impacts checked the wall");
             let s = &self.state;
             let h = match self.contact_phase {
@@ -154,9 +154,9 @@ impl Simulation {
                     self.begin_contact();
                     continue;
                 }
-                None => match wall.first_touch(&s.u, &s.v, &flight, remaining) {
+                None => match wall.first_touch(&s.u, omega, alpha, remaining) {
                     // land on the wall. The landing step's trajectory differs a little from the
-                    // free flight (12 µm short of the wall for the tutorial's swing), so the touch
+                    // rigid flight (12 µm short of the wall for the tutorial's swing), so the touch
                     // is predicted again from where it landed, at most 4 times, until it is within
                     // 1e-6 of the step: that is the impact's start.
                     Some(touch) if touch > 1e-6 * dt && landings < 4 => {
@@ -178,7 +178,7 @@ impl Simulation {
             let u0 = &before.snapshot.state.u;
             let wall = self.model.wall.as_ref().expect("checked");
             if self.contact_phase.is_none() && apart && wall.in_contact(&self.state.u) {
-                // a touch the free flight did not foresee: retake the step up to the crossing
+                // a touch the rigid flight did not foresee: retake the step up to the crossing
                 let crossing = wall.first_crossing(u0, &self.state.u).unwrap_or(1.0);
                 if crossing > 1e-3 && crossing < 1.0 {
                     self.roll_back(&before);
@@ -196,26 +196,6 @@ impl Simulation {
             }
         }
         Ok(its)
-    }
-
-    /// The acceleration of every node in the free flight that predicts the next touch: the rigid
-    /// body's about the pivot, `α e_z × x − ω² x` with the best-fit rates (zero at the other
-    /// bodies' nodes). Not the nodes' own accelerations: after a blow a stiff plate rings, and its
-    /// nodes' accelerations (of order 1e5 m/s² for steel) extrapolated over a whole output step
-    /// predicted touches that never came, one after another, each resolved in the impact's
-    /// sub-steps (a spinning steel plate's output step of 11 ms took 1500 sub-steps of 2 µs). A
-    /// touch that the rigid flight does not foresee (the ringing itself) is still caught: the step
-    /// that crosses the wall is retaken up to the crossing.
-    fn flight_acceleration(&mut self) -> Vec<f64> {
-        let (omega, alpha) = self.angular_rates();
-        let x = self.model.positions(&self.state.u);
-        let mut a = vec![0.0; x.len()];
-        for n in 0..self.model.bodies[0].nodes.end {
-            let (px, py) = (x[2 * n], x[2 * n + 1]);
-            a[2 * n] = -alpha * py - omega * omega * px;
-            a[2 * n + 1] = alpha * px - omega * omega * py;
-        }
-        a
     }
 
     /// A contact that the fixed sparsity pattern does not cover is an error naming it (see
