@@ -456,3 +456,28 @@ fn run_chromium(binary: &Path, args: &[String]) -> String {
     }
     reader.join().unwrap()
 }
+
+#[test]
+fn a_wall_runs_csv_files_write_no_negative_zero() {
+    // the contact force is a sum of clamped terms, −0.0 whenever the head is off the wall: most rows
+    let dir = wall_run();
+    let mut zeros = 0;
+    for file in ["results.csv", "events.csv"] {
+        let text = std::fs::read_to_string(dir.join(file)).unwrap();
+        for (k, line) in text.lines().enumerate().skip(1) {
+            for cell in line.split(',') {
+                assert!(
+                    !cell.starts_with("-0") || cell.parse::<f64>().is_ok_and(|v| v != 0.0),
+                    "{file} line {}: a negative zero `{cell}` in `{line}`",
+                    k + 1
+                );
+                zeros += usize::from(cell == "0");
+            }
+        }
+    }
+    // the claim is about zeros that are written: there are many (off the wall, the force is 0)
+    assert!(
+        zeros > 100,
+        "only {zeros} zero cells: the run is not the one this test is about"
+    );
+}

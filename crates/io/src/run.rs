@@ -12,7 +12,7 @@ use crate::progress::{Progress, ProgressMode};
 use crate::simulation::{ContactRecord, Simulation, StepRecord};
 use crate::{mesh, Config, Error};
 use crate::{prepare_output_dir, FrameWriters};
-use pendulum_fem_core::post::PeriodEstimator;
+use pendulum_fem_core::post::{unsigned_zero, PeriodEstimator};
 
 /// What to run and where to write. `RunOptions { config, out: Some(dir), ..Default::default() }`
 /// leaves everything else at its default (no force, progress shown, no stop flag, no checkpoints).
@@ -100,7 +100,8 @@ pub struct RunSummary {
     pub timings: pendulum_fem_core::newton::Timings,
 }
 
-/// The values of a record in CSV column order.
+/// The values of a record in CSV column order, a negative zero as `0`
+/// ([`pendulum_fem_core::post::unsigned_zero`]).
 /// The columns are [`StepRecord::HEADER`]'s, then [`StepRecord::CONTACT_HEADER`]'s for a model
 /// with a wall.
 pub fn csv_values(r: &StepRecord) -> Vec<f64> {
@@ -124,7 +125,7 @@ pub fn csv_values(r: &StepRecord) -> Vec<f64> {
     if let Some(c) = &r.contact {
         v.extend([c.gap, c.force, c.energy, c.impacts as f64]);
     }
-    v
+    v.into_iter().map(unsigned_zero).collect()
 }
 
 /// The main job: prepares the output folder (before computing anything), then runs with every
@@ -268,15 +269,11 @@ pub const EVENTS_HEADER: &str = "time_s,event,theta_rad,omega_rad_s,impulse_N_s,
 fn write_events(dir: &std::path::Path, events: &[pendulum_fem_core::simulation::ContactEvent]) -> Result<(), Error> {
     let mut text = format!("{EVENTS_HEADER}\n");
     for e in events {
+        let [time, theta, omega, impulse, penetration, force] =
+            [e.time, e.theta, e.omega, e.impulse, e.penetration, e.force].map(unsigned_zero);
         text.push_str(&format!(
-            "{},{},{},{},{},{},{}\n",
-            e.time,
-            e.kind.name(),
-            e.theta,
-            e.omega,
-            e.impulse,
-            e.penetration,
-            e.force
+            "{time},{},{theta},{omega},{impulse},{penetration},{force}\n",
+            e.kind.name()
         ));
     }
     crate::vtu::write_atomically(&dir.join("events.csv"), |w| w.write_all(text.as_bytes()))

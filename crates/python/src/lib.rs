@@ -30,6 +30,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 use pendulum_fem::config::TorqueProfile;
+use pendulum_fem::post::unsigned_zero;
 use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot, StepRecord};
 use pendulum_fem_io::run::{csv_values, StepPlan, EVENTS_HEADER};
 
@@ -419,7 +420,7 @@ impl PySimulation {
             .model
             .wall
             .as_ref()
-            .map_or(0.0, |w| w.normal_force(self.sim.displacement()))
+            .map_or(0.0, |w| unsigned_zero(w.normal_force(self.sim.displacement())))
     }
 
     /// Impacts of the head on the wall so far (counted when the head first penetrates the wall;
