@@ -20,7 +20,7 @@ fn stderr(o: &Output) -> String {
 }
 
 #[test]
-fn unknown_keys_are_rejected_with_their_name() {
+fn unknown_keys_are_rejected_with_their_name_line_and_the_nearest_allowed_key() {
     let dir = scratch("unknown");
     let cfg = dir.join("bad.toml");
     std::fs::write(&cfg, "[mesh]\nmax_sise = 0.01\n").unwrap();
@@ -32,7 +32,11 @@ fn unknown_keys_are_rejected_with_their_name() {
         .output()
         .unwrap();
     assert!(!o.status.success());
-    assert!(stderr(&o).contains("max_sise"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("unknown key \"max_sise\" in [mesh] at line 2; did you mean \"max_size\"?"),
+        "{}",
+        stderr(&o)
+    );
     assert!(
         !dir.join("out").join("results.csv").exists(),
         "nothing is computed for a bad configuration"
