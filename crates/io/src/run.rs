@@ -80,6 +80,9 @@ pub struct RunSummary {
     pub von_mises_max: f64,
     /// With a wall: the impacts and the largest contact force over the records \[N\].
     pub contact: Option<(usize, f64)>,
+    /// With a wall: count, interval, restitution and rebound of the impacts (what the summary
+    /// reports instead of [`RunSummary::period`], which zero crossings inside the impacts spoil).
+    pub impacts: Option<crate::impacts::ImpactSummary>,
     /// Largest energy error over the run, `max |E(t) − E(0) − W(t)| / energy_scale` (see
     /// [`EnergyAudit`]).
     pub energy_error: f64,
@@ -474,6 +477,7 @@ fn run_steps(
     let mut progress = Progress::new(StepPlan::of(&cfg.time).steps(), mode);
     let mut seconds_outputs = 0.0;
     let mut period = PeriodEstimator::default();
+    let mut impacts = crate::impacts::ImpactSummary::default();
     let mut audit = EnergyAudit::of(&sim.model);
     let plan = StepPlan::of(&cfg.time);
     summary.last_step = plan.last;
@@ -522,6 +526,9 @@ fn run_steps(
         summary.theta_range.1 = summary.theta_range.1.max(record.theta);
         summary.von_mises_max = summary.von_mises_max.max(record.von_mises_max);
         summary.theta_final = record.theta;
+        if sim.model.wall.is_some() {
+            impacts.observe(sim.contact_events(), record.theta);
+        }
         if let Some(c) = record.contact {
             // the peaks between the records are in the events
             let peaks = sim.contact_events().iter().map(|e| e.force).fold(0.0, f64::max);
@@ -608,6 +615,10 @@ fn run_steps(
     summary.factorizations = sim.total_factorizations;
     summary.cutbacks = sim.cutbacks;
     summary.period = period.period();
+    if sim.model.wall.is_some() {
+        impacts.of_events(sim.contact_events());
+        summary.impacts = Some(impacts);
+    }
     summary.energy_error = audit.error();
     summary.energy_scale = audit.scale();
     summary.timings = sim.timings();
