@@ -134,6 +134,39 @@ fn init_writes_a_commented_configuration_that_reads_back_as_the_defaults() {
 }
 
 #[test]
+fn init_header_says_the_defaults_are_energy_momentum_from_a_rigid_start_and_how_to_get_the_tutorial() {
+    let dir = scratch("init-header");
+    let file = dir.join("p.toml");
+    let o = bin().arg("init").arg(&file).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&file).unwrap();
+    let header: String = text
+        .lines()
+        .take_while(|l| l.starts_with('#'))
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(
+        !header.contains("reproduce the NGSolve"),
+        "the defaults do not reproduce it: {header}"
+    );
+    for words in [
+        "energy-momentum",
+        "rigid-body start",
+        "time.scheme = \"trapezoidal\"",
+        "initial.acceleration = \"zero\"",
+    ] {
+        assert!(header.contains(words), "the header should say {words:?}:\n{header}");
+    }
+    // and what it says is so: the defaults are that scheme and that start
+    let defaults = pendulum_fem::Config::default();
+    let as_toml = toml::to_string(&defaults).unwrap();
+    assert!(
+        as_toml.contains("scheme = \"energy-momentum\"") && as_toml.contains("acceleration = \"rigid\""),
+        "{as_toml}"
+    );
+}
+
+#[test]
 fn help_lists_every_subcommand() {
     let o = bin().arg("--help").output().unwrap();
     let text = String::from_utf8_lossy(&o.stdout);
