@@ -1078,6 +1078,12 @@ fn unknown_key_message(message: &str, text: Option<&str>, overrides: &[String]) 
     ))
 }
 
+/// Whether `message` (the text of an [`Error::Config`]) reports an unknown key, as
+/// [`Config::load`] words it; for callers that treat a misspelled key apart from a bad value.
+pub fn reports_an_unknown_key(message: &str) -> bool {
+    message.contains("unknown key \"")
+}
+
 /// The line (1-based) of the unknown `key` in the configuration file `text`: toml's own reading of
 /// the file as a [`Config`] points at it (when that is its first error).
 fn line_of_unknown_key(text: &str, key: &str) -> Option<usize> {

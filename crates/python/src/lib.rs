@@ -151,7 +151,7 @@ fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResu
     Config::load(path.as_deref(), overrides).map_err(|e| {
         let message = e.to_string();
         let unknown = unknown_keys(overrides);
-        if message.contains("unknown field") && !unknown.is_empty() {
+        if pendulum_fem::config::reports_an_unknown_key(&message) && !unknown.is_empty() {
             let keys: Vec<String> = unknown.iter().map(|k| format!("`{k}`")).collect();
             PyValueError::new_err(format!("unknown configuration key {} ({message})", keys.join(", ")))
         } else {
