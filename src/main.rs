@@ -356,6 +356,18 @@ fn load(args: &ConfigArgs) -> Result<Config, Error> {
     Config::load(args.config.as_deref(), &args.set)
 }
 
+fn print_impacts(i: &pendulum_fem::io::impacts::ImpactSummary) {
+    let every = i
+        .mean_interval
+        .map_or(String::new(), |t| format!(", one every {t:.4} s on average"));
+    println!("  impacts            {}{every} (events.csv)", i.count);
+    let restitution = i.restitution.map_or("-".into(), |e| format!("{e:.3}"));
+    let rebound = i
+        .rebound_angle
+        .map_or(String::new(), |r| format!("; rebound to {:.4} deg", r.to_degrees()));
+    println!("  restitution        {restitution} (|omega| leaving / reaching the wall, mean){rebound}");
+}
+
 fn print_summary(s: &RunSummary) {
     let deg = |x: f64| x.to_degrees();
     println!("pendulum-fem run finished");
@@ -384,9 +396,11 @@ fn print_summary(s: &RunSummary) {
         deg(s.theta_range.0),
         deg(s.theta_range.1)
     );
-    match s.period {
-        Some(p) => println!("  period estimate    {p:.6} s (zero crossings)"),
-        None => println!("  period estimate    - (fewer than two zero crossings)"),
+    match (s.impacts, s.period) {
+        // with a wall θ crosses zero only inside the impacts: no period, the impacts instead
+        (Some(i), _) if i.count > 0 => print_impacts(&i),
+        (_, Some(p)) => println!("  period estimate    {p:.6} s (zero crossings)"),
+        (_, None) => println!("  period estimate    - (fewer than two zero crossings)"),
     }
     println!("  max von Mises      {:.4e} Pa", s.von_mises_max);
     if let Some((impacts, force)) = s.contact {

@@ -20,7 +20,7 @@ fn stderr(o: &Output) -> String {
 }
 
 #[test]
-fn unknown_keys_are_rejected_with_their_name() {
+fn unknown_keys_are_rejected_with_their_name_line_and_the_nearest_allowed_key() {
     let dir = scratch("unknown");
     let cfg = dir.join("bad.toml");
     std::fs::write(&cfg, "[mesh]\nmax_sise = 0.01\n").unwrap();
@@ -32,7 +32,11 @@ fn unknown_keys_are_rejected_with_their_name() {
         .output()
         .unwrap();
     assert!(!o.status.success());
-    assert!(stderr(&o).contains("max_sise"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("unknown key \"max_sise\" in [mesh] at line 2; did you mean \"max_size\"?"),
+        "{}",
+        stderr(&o)
+    );
     assert!(
         !dir.join("out").join("results.csv").exists(),
         "nothing is computed for a bad configuration"
@@ -127,6 +131,39 @@ fn init_writes_a_commented_configuration_that_reads_back_as_the_defaults() {
     // a second init refuses to overwrite
     let o = bin().arg("init").arg(&file).output().unwrap();
     assert!(!o.status.success() && stderr(&o).contains("--force"));
+}
+
+#[test]
+fn init_header_says_the_defaults_are_energy_momentum_from_a_rigid_start_and_how_to_get_the_tutorial() {
+    let dir = scratch("init-header");
+    let file = dir.join("p.toml");
+    let o = bin().arg("init").arg(&file).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&file).unwrap();
+    let header: String = text
+        .lines()
+        .take_while(|l| l.starts_with('#'))
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(
+        !header.contains("reproduce the NGSolve"),
+        "the defaults do not reproduce it: {header}"
+    );
+    for words in [
+        "energy-momentum",
+        "rigid-body start",
+        "time.scheme = \"trapezoidal\"",
+        "initial.acceleration = \"zero\"",
+    ] {
+        assert!(header.contains(words), "the header should say {words:?}:\n{header}");
+    }
+    // and what it says is so: the defaults are that scheme and that start
+    let defaults = pendulum_fem::Config::default();
+    let as_toml = toml::to_string(&defaults).unwrap();
+    assert!(
+        as_toml.contains("scheme = \"energy-momentum\"") && as_toml.contains("acceleration = \"rigid\""),
+        "{as_toml}"
+    );
 }
 
 #[test]

@@ -9,23 +9,12 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+#[path = "common/python.rs"]
+mod python_env;
+use python_env::run;
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// Runs `cmd` and returns its stdout; panics with everything it printed when it fails.
-fn run(cmd: &mut Command, what: &str) -> String {
-    let out = cmd
-        .output()
-        .unwrap_or_else(|e| panic!("{what}: cannot start {cmd:?}: {e}"));
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(
-        out.status.success(),
-        "{what} failed ({}):\n--- stdout ---\n{stdout}\n--- stderr ---\n{stderr}",
-        out.status
-    );
-    stdout
 }
 
 /// The CLI's output folder (`results.csv`, and `events.csv` with a wall) of the default run to
@@ -49,37 +38,14 @@ fn cli_results(dir: &Path, name: &str, sets: &[&str]) -> PathBuf {
 #[test]
 fn python_package_builds_installs_and_passes_its_tests() {
     let root = root();
-    let python = run(&mut Command::new(root.join("scripts/test-env")), "scripts/test-env");
-    let python = python.trim();
+    let python = python_env::test_env_python(&root);
     let scratch = root.join("target/python-test");
     std::fs::create_dir_all(&scratch).unwrap();
     let results = cli_results(&scratch, "cli-run", &[]).join("results.csv");
     let wall = cli_results(&scratch, "cli-run-wall", &["wall.kind=\"rigid\""]);
-
-    // a fresh wheel folder, so that exactly the wheel built now is installed
-    let wheels = scratch.join("wheels");
-    let _ = std::fs::remove_dir_all(&wheels);
-    run(
-        Command::new(python)
-            .args(["-m", "maturin", "build", "--release", "--quiet", "--manifest-path"])
-            .arg(root.join("crates/python/Cargo.toml"))
-            .arg("--out")
-            .arg(&wheels),
-        "maturin build",
-    );
-    let wheel = std::fs::read_dir(&wheels)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.extension().is_some_and(|e| e == "whl"))
-        .expect("maturin wrote a wheel");
-    run(
-        Command::new(python)
-            .args(["-m", "pip", "install", "--quiet", "--force-reinstall", "--no-deps"])
-            .arg(&wheel),
-        "pip install",
-    );
+    python_env::install_wheel(&root, &python, &scratch);
     let report = run(
-        Command::new(python)
+        Command::new(&python)
             .args(["-m", "pytest", "-q", "-p", "no:cacheprovider"])
             .arg(root.join("crates/python/tests"))
             .env("PENDULUM_FEM_RESULTS_CSV", &results)

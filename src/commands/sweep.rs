@@ -147,7 +147,9 @@ impl Sweep {
         }
         let not_a_key = |e: &Error| {
             let m = e.to_string();
-            m.contains("unknown field") || m.contains("is a value, not a section") || m.contains("must be section.name")
+            crate::config::reports_an_unknown_key(&m)
+                || m.contains("is a value, not a section")
+                || m.contains("must be section.name")
         };
         for (j, key) in self.plan.keys.iter().enumerate() {
             let Some(value) = self.plan.cases.iter().find_map(|c| c[j].clone()) else {

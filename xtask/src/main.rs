@@ -1,8 +1,11 @@
 //! Build tasks of pendulum-fem, run as `cargo xtask <task>` (an alias in `.cargo/config.toml`).
 //!
-//! * `fmu`: builds the FMU's shared object in release mode (`cargo build --release -p
-//!   pendulum-fem-fmu`) and packs it with the generated `modelDescription.xml` into
-//!   `target/fmu/PendulumFem.fmu`.
+//! * `fmu`: builds the FMU's shared object with the `fmu-release` profile (release code, no debug
+//!   info, symbols stripped: the FMI functions stay exported) and packs it with the generated
+//!   `modelDescription.xml` into `target/fmu/PendulumFem.fmu`. With `cargo zigbuild` installed
+//!   (`pip install ziglang cargo-zigbuild`) it links against glibc 2.17
+//!   (`--target x86_64-unknown-linux-gnu.2.17`), so the FMU loads on Linux systems from 2014 on;
+//!   without it the FMU needs the glibc of the building machine, which it says.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -39,18 +42,43 @@ fn target_dir() -> PathBuf {
         .unwrap_or_else(|| root().join("target"))
 }
 
+/// The cargo profile of the FMU's shared object (the workspace's `Cargo.toml`).
+const PROFILE: &str = "fmu-release";
+
+/// The target of a portable build: the host's, linked against glibc 2.17 by cargo-zigbuild.
+const PORTABLE_TARGET: &str = "x86_64-unknown-linux-gnu.2.17";
+
 fn fmu() -> Result<(), String> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let status = Command::new(cargo)
-        .args(["build", "--release", "-p", "pendulum-fem-fmu"])
+    let zigbuild = Command::new(&cargo)
+        .args(["zigbuild", "--help"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    let mut args = vec![if zigbuild { "zigbuild" } else { "build" }, "--profile", PROFILE];
+    if zigbuild {
+        args.extend(["--target", PORTABLE_TARGET]);
+    } else {
+        eprintln!(
+            "xtask: cargo-zigbuild not found, so the FMU needs this machine's glibc; for one that loads on glibc \
+             2.17 and later: pip install ziglang cargo-zigbuild"
+        );
+    }
+    args.extend(["-p", "pendulum-fem-fmu"]);
+    let status = Command::new(&cargo)
+        .args(&args)
         .current_dir(root())
         .status()
         .map_err(|e| format!("cannot run cargo: {e}"))?;
     if !status.success() {
-        return Err(format!("cargo build --release -p pendulum-fem-fmu failed ({status})"));
+        return Err(format!("cargo {} failed ({status})", args.join(" ")));
     }
     let target = target_dir();
-    let library = target.join("release").join(LIBRARY_FILE);
+    let library = match zigbuild {
+        // cargo-zigbuild writes to the target's folder without the glibc suffix
+        true => target.join("x86_64-unknown-linux-gnu").join(PROFILE),
+        false => target.join(PROFILE),
+    }
+    .join(LIBRARY_FILE);
     let fmu = target.join("fmu").join("PendulumFem.fmu");
     write_fmu(&library, &fmu).map_err(|e| format!("writing {}: {e}", fmu.display()))?;
     println!("{}", fmu.display());

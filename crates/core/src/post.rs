@@ -268,3 +268,11 @@ impl PeriodEstimator {
         }
     }
 }
+
+/// `v` as an output reports it: a negative zero becomes `+0` (`−0 + 0 = +0` in IEEE arithmetic),
+/// every other value, NaN included, is unchanged. A force summed from clamped terms
+/// (`−k · min(g, 0)` with no penetration) is `−0.0`, which Rust prints as `-0`; files, the FMU and
+/// Python show `0` instead.
+pub fn unsigned_zero(v: f64) -> f64 {
+    v + 0.0
+}

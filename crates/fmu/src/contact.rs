@@ -7,6 +7,7 @@
 //! distance of the deformed head to the plane `x = wall_x` and nothing touches
 //! ([`Simulation::gap`] either way).
 
+use pendulum_fem::post::unsigned_zero;
 use pendulum_fem::Simulation;
 
 /// The contact outputs of one state.
@@ -28,7 +29,7 @@ pub fn contact_outputs(sim: &Simulation, impact: bool) -> ContactOutputs {
         .model
         .wall
         .as_ref()
-        .map_or(0.0, |wall| wall.normal_force(sim.displacement()));
+        .map_or(0.0, |wall| unsigned_zero(wall.normal_force(sim.displacement())));
     ContactOutputs {
         gap: sim.gap(),
         force,

@@ -16,6 +16,7 @@ pub mod anim;
 pub mod csv;
 mod font;
 pub mod gmsh;
+pub mod impacts;
 pub mod outdir;
 pub mod plot;
 pub mod progress;

@@ -3,7 +3,9 @@
 //!
 //! - `theta.png`: the rigid-body angle proxy θ(t) in degrees, with dashed lines at ±θ_max, as in
 //!   the tutorial's matplotlib figure (θ_max = |θ(0)|, the release angle, like the tutorial's
-//!   `theta_vals[0]`; when the run starts at θ = 0, the largest |θ| instead). With an applied
+//!   `theta_vals[0]`; when the run starts at θ = 0, the largest |θ| instead); a line is drawn only
+//!   on a side the motion reaches ([`theta_limits`]: a swing stopped by a wall has no −θ_max), and
+//!   the axis spans the data and the lines drawn. With an applied
 //!   torque the release angle bounds nothing, so the lines are left out and the torque M(t) is
 //!   drawn instead, on its own axis at the right; they are left out too when the body turns over
 //!   (|θ| > 180°, a spin).
@@ -323,20 +325,39 @@ fn time_range(h: &History) -> (f64, f64) {
     }
 }
 
-fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
-    let deg: Vec<f64> = h.theta.iter().map(|t| t.to_degrees()).collect();
+/// The share of θ_max the motion must reach on a side for the dashed line there to be drawn: a
+/// swing reaches ±θ_max up to its energy error (and a damped one loses a little per swing), while
+/// a swing stopped by a wall never goes past the wall's angle (about 0° here) on that side.
+pub const THETA_LIMIT_REACHED: f64 = 0.9;
+
+/// The dashed limit lines of `theta.png` and its angle axis, for θ(t) in degrees (`deg`): the lines
+/// at +θ_max and −θ_max (θ_max = |θ(0)|, or the largest |θ| for a start at 0) that the motion
+/// reaches, each as (sign, value) (none with a torque or for a body that turns over), and the
+/// axis: the range of the data and of those lines, with room for the legend at the top.
+pub fn theta_limits(deg: &[f64], torque: bool) -> (Vec<(f64, f64)>, (f64, f64)) {
     let first = deg.first().copied().unwrap_or(0.0).abs();
     let theta_max = if first > 1e-9 {
         first
     } else {
         deg.iter().fold(0.0f64, |a, v| a.max(v.abs()))
     };
+    // ±θ_max bound a swing; a body that turns over (a spin) has no such bounds
+    let show_bounds = !torque && deg.iter().all(|v| v.abs() <= 180.0) && theta_max > 0.0;
+    let (lo, hi) = deg.iter().fold((0.0f64, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
+    let lines: Vec<(f64, f64)> = [(1.0, hi), (-1.0, -lo)]
+        .into_iter()
+        .filter(|&(_, reached)| show_bounds && reached >= THETA_LIMIT_REACHED * theta_max)
+        .map(|(sign, _)| (sign, sign * theta_max))
+        .collect();
+    let axis = with_legend_room(range_of(deg.iter().chain(lines.iter().map(|(_, y)| y))));
+    (lines, axis)
+}
+
+fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
+    let deg: Vec<f64> = h.theta.iter().map(|t| t.to_degrees()).collect();
     let (t0, t1) = time_range(h);
     let torque = h.has_torque() && h.torque.len() == h.time.len();
-    // ±θ_max bound a swing; a body that turns over (a spin) has no such bounds
-    let show_bounds = !torque && deg.iter().all(|v| v.abs() <= 180.0);
-    let bounds: &[f64] = if show_bounds { &[theta_max, -theta_max] } else { &[] };
-    let (lo, hi) = with_legend_room(range_of(deg.iter().chain(bounds)));
+    let (lines, (lo, hi)) = theta_limits(&deg, torque);
     let (mlo, mhi) = with_legend_room(range_of(h.torque.iter().chain([0.0].iter())));
     let mut chart = ChartBuilder::on(root)
         .caption("Rigid-body angle proxy θ(t)", ("sans-serif", 26))
@@ -386,13 +407,12 @@ fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
             .label("applied torque M(t) (right axis)")
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], red.stroke_width(2)));
     }
-    let lines: &[(f64, RGBColor, &str)] = if show_bounds {
-        &[(1.0, RGBColor(214, 39, 40), "+θ_max"), (-1.0, BLACK, "−θ_max")]
-    } else {
-        &[]
-    };
-    for &(sign, color, name) in lines {
-        let y = sign * theta_max;
+    for &(sign, y) in &lines {
+        let (color, name) = if sign > 0.0 {
+            (RGBColor(214, 39, 40), "+θ_max")
+        } else {
+            (BLACK, "−θ_max")
+        };
         chart
             .draw_series(DashedLineSeries::new([(t0, y), (t1, y)], 10, 6, color.stroke_width(2)))?
             .label(format!("{name} = {:+.2}°", y))
@@ -537,6 +557,38 @@ mod tests {
         h.torque_work = h.kinetic.clone();
         assert!(h.has_torque());
         assert_eq!(h.energy_curves().last().unwrap().0, "work of the torque");
+    }
+
+    /// θ(t) [deg] of a 20° swing sampled over `periods`, folded at `floor` (a wall at that angle).
+    fn swing(periods: f64, floor: f64) -> Vec<f64> {
+        (0..=400)
+            .map(|k| (20.0 * (2.0 * std::f64::consts::PI * periods * k as f64 / 400.0).cos()).max(floor))
+            .collect()
+    }
+
+    #[test]
+    fn a_free_swing_draws_both_limits_on_an_axis_around_them() {
+        let (lines, (lo, hi)) = theta_limits(&swing(2.0, -90.0), false);
+        assert_eq!(lines, vec![(1.0, 20.0), (-1.0, -20.0)]);
+        assert!(lo < -20.0 && hi > 20.0, "[{lo}, {hi}]");
+    }
+
+    #[test]
+    fn a_swing_against_a_wall_draws_only_the_limit_it_reaches_on_an_axis_limited_to_the_data() {
+        // the wall stops the swing at θ ≈ −0.1° (the penetration); −20° is never approached
+        let (lines, (lo, hi)) = theta_limits(&swing(2.0, -0.1), false);
+        assert_eq!(lines, vec![(1.0, 20.0)], "no −θ_max line");
+        // below: the data's 5 % padding of the 20.1° span, no more; above: the data and the legend's 30 %
+        assert!(
+            (-0.1 - 1.01..-0.1).contains(&lo),
+            "axis bottom {lo}: the data end at −0.1°"
+        );
+        // 20° + 5 % padding + 30 % for the legend = 27.6°; with the −20° line it was 35.2°
+        assert!(hi < 28.0, "axis top {hi}");
+        // a torque or a spin: no lines at all
+        assert!(theta_limits(&swing(2.0, -90.0), true).0.is_empty());
+        let spin: Vec<f64> = (0..100).map(|k| 20.0 + 10.0 * k as f64).collect();
+        assert!(theta_limits(&spin, false).0.is_empty());
     }
 
     #[test]

@@ -12,7 +12,7 @@ use crate::progress::{Progress, ProgressMode};
 use crate::simulation::{ContactRecord, Simulation, StepRecord};
 use crate::{mesh, Config, Error};
 use crate::{prepare_output_dir, FrameWriters};
-use pendulum_fem_core::post::PeriodEstimator;
+use pendulum_fem_core::post::{unsigned_zero, PeriodEstimator};
 
 /// What to run and where to write. `RunOptions { config, out: Some(dir), ..Default::default() }`
 /// leaves everything else at its default (no force, progress shown, no stop flag, no checkpoints).
@@ -80,6 +80,9 @@ pub struct RunSummary {
     pub von_mises_max: f64,
     /// With a wall: the impacts and the largest contact force over the records \[N\].
     pub contact: Option<(usize, f64)>,
+    /// With a wall: count, interval, restitution and rebound of the impacts (what the summary
+    /// reports instead of [`RunSummary::period`], which zero crossings inside the impacts spoil).
+    pub impacts: Option<crate::impacts::ImpactSummary>,
     /// Largest energy error over the run, `max |E(t) − E(0) − W(t)| / energy_scale` (see
     /// [`EnergyAudit`]).
     pub energy_error: f64,
@@ -100,7 +103,8 @@ pub struct RunSummary {
     pub timings: pendulum_fem_core::newton::Timings,
 }
 
-/// The values of a record in CSV column order.
+/// The values of a record in CSV column order, a negative zero as `0`
+/// ([`pendulum_fem_core::post::unsigned_zero`]).
 /// The columns are [`StepRecord::HEADER`]'s, then [`StepRecord::CONTACT_HEADER`]'s for a model
 /// with a wall.
 pub fn csv_values(r: &StepRecord) -> Vec<f64> {
@@ -124,7 +128,7 @@ pub fn csv_values(r: &StepRecord) -> Vec<f64> {
     if let Some(c) = &r.contact {
         v.extend([c.gap, c.force, c.energy, c.impacts as f64]);
     }
-    v
+    v.into_iter().map(unsigned_zero).collect()
 }
 
 /// The main job: prepares the output folder (before computing anything), then runs with every
@@ -268,15 +272,11 @@ pub const EVENTS_HEADER: &str = "time_s,event,theta_rad,omega_rad_s,impulse_N_s,
 fn write_events(dir: &std::path::Path, events: &[pendulum_fem_core::simulation::ContactEvent]) -> Result<(), Error> {
     let mut text = format!("{EVENTS_HEADER}\n");
     for e in events {
+        let [time, theta, omega, impulse, penetration, force] =
+            [e.time, e.theta, e.omega, e.impulse, e.penetration, e.force].map(unsigned_zero);
         text.push_str(&format!(
-            "{},{},{},{},{},{},{}\n",
-            e.time,
-            e.kind.name(),
-            e.theta,
-            e.omega,
-            e.impulse,
-            e.penetration,
-            e.force
+            "{time},{},{theta},{omega},{impulse},{penetration},{force}\n",
+            e.kind.name()
         ));
     }
     crate::vtu::write_atomically(&dir.join("events.csv"), |w| w.write_all(text.as_bytes()))
@@ -477,6 +477,7 @@ fn run_steps(
     let mut progress = Progress::new(StepPlan::of(&cfg.time).steps(), mode);
     let mut seconds_outputs = 0.0;
     let mut period = PeriodEstimator::default();
+    let mut impacts = crate::impacts::ImpactSummary::default();
     let mut audit = EnergyAudit::of(&sim.model);
     let plan = StepPlan::of(&cfg.time);
     summary.last_step = plan.last;
@@ -525,6 +526,9 @@ fn run_steps(
         summary.theta_range.1 = summary.theta_range.1.max(record.theta);
         summary.von_mises_max = summary.von_mises_max.max(record.von_mises_max);
         summary.theta_final = record.theta;
+        if sim.model.wall.is_some() {
+            impacts.observe(sim.contact_events(), record.theta);
+        }
         if let Some(c) = record.contact {
             // the peaks between the records are in the events
             let peaks = sim.contact_events().iter().map(|e| e.force).fold(0.0, f64::max);
@@ -611,6 +615,10 @@ fn run_steps(
     summary.factorizations = sim.total_factorizations;
     summary.cutbacks = sim.cutbacks;
     summary.period = period.period();
+    if sim.model.wall.is_some() {
+        impacts.of_events(sim.contact_events());
+        summary.impacts = Some(impacts);
+    }
     summary.energy_error = audit.error();
     summary.energy_scale = audit.scale();
     summary.timings = sim.timings();

@@ -30,6 +30,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 use pendulum_fem::config::TorqueProfile;
+use pendulum_fem::post::unsigned_zero;
 use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot, StepRecord};
 use pendulum_fem_io::run::{csv_values, StepPlan, EVENTS_HEADER};
 
@@ -150,7 +151,7 @@ fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResu
     Config::load(path.as_deref(), overrides).map_err(|e| {
         let message = e.to_string();
         let unknown = unknown_keys(overrides);
-        if message.contains("unknown field") && !unknown.is_empty() {
+        if pendulum_fem::config::reports_an_unknown_key(&message) && !unknown.is_empty() {
             let keys: Vec<String> = unknown.iter().map(|k| format!("`{k}`")).collect();
             PyValueError::new_err(format!("unknown configuration key {} ({message})", keys.join(", ")))
         } else {
@@ -419,7 +420,7 @@ impl PySimulation {
             .model
             .wall
             .as_ref()
-            .map_or(0.0, |w| w.normal_force(self.sim.displacement()))
+            .map_or(0.0, |w| unsigned_zero(w.normal_force(self.sim.displacement())))
     }
 
     /// Impacts of the head on the wall so far (counted when the head first penetrates the wall;

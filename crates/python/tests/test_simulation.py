@@ -1,5 +1,6 @@
 """The Python package: configuration, stepping, results, state and errors (issue 11, test 5)."""
 
+import math
 import os
 import pickle
 import subprocess
@@ -329,6 +330,17 @@ def test_the_wall_properties_follow_an_impact_and_round_trip_through_snapshots()
     copy = pickle.loads(pickle.dumps(sim))
     assert copy.events == sim.events and copy.impacts == 1 and copy.in_contact
     assert copy.gap == sim.gap and copy.contact_force == sim.contact_force
+
+
+def test_off_the_wall_contact_force_is_a_positive_zero_in_the_property_and_the_columns():
+    # the force sums clamped terms, −0.0 without penetration: reported as +0.0 (no `-0.0` shown)
+    sim = Simulation(**{"wall.kind": "rigid", "initial.angle_deg": 20})
+    assert sim.gap > 0.0
+    assert sim.contact_force == 0.0 and math.copysign(1.0, sim.contact_force) == 1.0
+    assert repr(sim.contact_force) == "0.0"
+    rows = sim.run(0.1, 0.01)  # before the first impact (0.24 s)
+    force = np.asarray(rows["contact_force_N"])
+    assert np.all(force == 0.0) and not np.any(np.signbit(force)), force
 
 
 def test_a_torque_input_declared_with_the_deformable_wall_keeps_the_mesh_of_both_bodies():

@@ -8,6 +8,7 @@ The cases are short default runs (time.end = 0.05).
 
 import os
 import subprocess
+import sys
 from pathlib import Path
 
 import pandas as pd
@@ -160,3 +161,12 @@ def test_nothing_to_vary_and_a_bad_vary_are_value_errors():
         pendulum_fem.sweep(config=SHORT)
     with pytest.raises(ValueError, match="linear range"):
         pendulum_fem.sweep(vary="material.youngs_modulus=1:2")
+
+
+def test_without_pandas_sweep_names_the_extra_to_install_before_running_a_case(monkeypatch, tmp_path):
+    # None in sys.modules makes `import pandas` raise ImportError, as in an environment without it
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    with pytest.raises(ModuleNotFoundError, match=r'pendulum-fem\[sweep\]') as error:
+        pendulum_fem.sweep(vary="initial.angle_deg=10,20", config=SHORT, out=tmp_path / "study")
+    assert error.value.name == "pandas"
+    assert not (tmp_path / "study").exists(), "the error comes before anything is written"

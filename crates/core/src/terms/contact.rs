@@ -503,7 +503,8 @@ impl RigidWall {
             .iter()
             .map(|p| {
                 let l = self.local(p, u);
-                -p.weight * self.stiffness * l.g.min(0.0) * taper(l.eta)
+                // (−g)⁺, not −min(g, 0): a point apart adds +0, never −0
+                p.weight * self.stiffness * (-l.g).max(0.0) * taper(l.eta)
             })
             .sum()
     }

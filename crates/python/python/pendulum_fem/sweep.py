@@ -53,6 +53,20 @@ def _base(config, set) -> Tuple[Optional[str], List[str]]:
     return path, overrides
 
 
+def _import_pandas():
+    """pandas, or an ImportError that names the extra which installs it (before any case runs)."""
+    try:
+        import pandas
+    except ImportError as e:
+        raise ModuleNotFoundError(
+            "pendulum_fem.sweep returns a pandas DataFrame and needs pandas: install the package's "
+            '"sweep" extra, pip install "pendulum-fem[sweep]" (from a checkout: pip install '
+            '"./crates/python[sweep]"; "dask" instead of "sweep" adds dask.distributed)',
+            name="pandas",
+        ) from e
+    return pandas
+
+
 def sweep(
     cases: Optional[Sequence[Mapping[str, Any]]] = None,
     *,
@@ -87,7 +101,7 @@ def sweep(
     (``final_time_s`` … ``energy_error``, ``impacts`` and ``contact_force_max_N`` when a wall is
     on), ``status`` and ``message``, with the dtypes ``pandas.read_csv`` gives ``summary.csv``.
     """
-    import pandas
+    pandas = _import_pandas()
 
     if isinstance(vary, str):
         vary = [vary]
