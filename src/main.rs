@@ -407,8 +407,10 @@ fn print_summary(s: &RunSummary) {
         println!("  wall               {impacts} impacts, largest contact force {force:.4e} N (events.csv)");
     }
     println!(
-        "  energy error       {:.3e} of the energy scale {:.4e} J (max |energy change - torque work|)",
-        s.energy_error, s.energy_scale
+        "  energy error       {:.3e}: the total energy, less the torque's work, drifted by at most {:.3e} J of the {:.4e} J the run has available",
+        s.energy_error,
+        s.energy_error * s.energy_scale,
+        s.energy_scale
     );
     println!("  writing outputs    {:.3} s of the wall time", s.seconds_outputs);
     println!("  results in         {}", s.out_dir.display());
