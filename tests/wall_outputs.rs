@@ -534,6 +534,8 @@ fn a_wall_runs_summary_reports_impacts_not_a_period() {
     );
     // half a swing between impacts (0.4806 s of the 0.96 s period): no zero-crossing period there
     assert!((interval - 0.4806).abs() < 1e-3, "interval {interval}");
+    // θ crosses zero only inside the ~2 ms impacts: the summary (and a sweep's period_s) has no period
+    assert_eq!(summary.period, None, "a wall run's zero-crossing period");
 }
 
 #[test]

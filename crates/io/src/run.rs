@@ -74,7 +74,8 @@ pub struct RunSummary {
     pub theta_final: f64,
     /// Smallest and largest proxy angle \[rad\].
     pub theta_range: (f64, f64),
-    /// Period from zero crossings \[s\].
+    /// Period from zero crossings \[s\]; `None` when the head struck a wall (see
+    /// [`RunSummary::impacts`]).
     pub period: Option<f64>,
     /// Largest von Mises stress over the run \[Pa\].
     pub von_mises_max: f64,
@@ -614,11 +615,13 @@ fn run_steps(
     summary.newton_iterations = sim.total_iterations;
     summary.factorizations = sim.total_factorizations;
     summary.cutbacks = sim.cutbacks;
-    summary.period = period.period();
     if sim.model.wall.is_some() {
         impacts.of_events(sim.contact_events());
         summary.impacts = Some(impacts);
     }
+    // a head that struck the wall crosses θ = 0 only inside the impacts: no period (the summary
+    // reports the impacts, a sweep's summary.csv leaves `period_s` empty)
+    summary.period = period.period().filter(|_| summary.impacts.is_none_or(|i| i.count == 0));
     summary.energy_error = audit.error();
     summary.energy_scale = audit.scale();
     summary.timings = sim.timings();

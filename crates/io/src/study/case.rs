@@ -21,7 +21,7 @@
 //!
 //! The varied keys (values as given), then [`METRICS`]: final time \[s\], steps, Newton
 //! iterations, wall time \[s\], smallest and largest θ \[deg\], period \[s\] (empty when θ crossed
-//! zero fewer than twice), largest von Mises stress \[Pa\], energy error (see
+//! zero fewer than twice, or when the head struck a wall: θ then crosses zero inside the impacts), largest von Mises stress \[Pa\], energy error (see
 //! [`crate::run::EnergyAudit`]); then [`WALL_METRICS`] (number of impacts, largest
 //! contact force \[N\]) when a wall is on (`wall.kind` other than `"none"`); then `status`
 //! (`ok`, `failed`, `interrupted`, `pending`) and `message` (the error of a failed case). A
