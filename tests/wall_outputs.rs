@@ -570,3 +570,46 @@ fn the_cli_summary_of_a_wall_run_prints_impacts_and_no_zero_crossing_period() {
         "{text}"
     );
 }
+
+#[test]
+fn every_impact_is_resolved_in_impacts_csv_so_identical_impacts_look_identical() {
+    let dir = wall_run();
+    let head = |p: &Path| std::fs::read_to_string(p).unwrap().lines().next().unwrap().to_string();
+    let sub = dir.join("impacts.csv");
+    assert_eq!(
+        head(&sub),
+        head(&dir.join("results.csv")),
+        "impacts.csv has the columns of results.csv"
+    );
+    let h = History::read_csv(&sub).unwrap();
+    let spans = impacts(dir);
+    assert_eq!(spans.len(), 3, "{spans:?}");
+    let mut peaks = Vec::new();
+    for &(start, end) in &spans {
+        let inside: Vec<usize> = (0..h.time.len())
+            .filter(|&i| h.time[i] >= start && h.time[i] <= end)
+            .collect();
+        // sub-steps of τ/10 = 72 µs over an impact of 2.1 ms (README): about 29 rows
+        assert!(
+            inside.len() >= 20,
+            "{} sub-step rows in the impact {start}–{end}",
+            inside.len()
+        );
+        peaks.push(inside.iter().map(|&i| h.contact[i]).fold(0.0, f64::max));
+    }
+    // the three impacts are the same blow (rebound 19.9996° each): their peak contact energies,
+    // sampled every 72 µs over a 2.1 ms pulse, agree to the sampling of a smooth peak,
+    // about (π²/8)(72/2100)² = 1.4e-3; 1 % allows for the pulse's shape
+    let largest = peaks.iter().cloned().fold(0.0, f64::max);
+    for p in &peaks {
+        assert!((p - largest).abs() < 0.01 * largest, "peak contact energies {peaks:?}");
+    }
+    // the plots read both files: the merged history is in time order and holds every row
+    let both = History::read_csvs(&[&dir.join("results.csv"), &sub]).unwrap();
+    let rows = History::read_csv(&dir.join("results.csv")).unwrap().time.len();
+    assert_eq!(both.time.len(), rows + h.time.len());
+    assert!(
+        both.time.windows(2).all(|w| w[0] <= w[1]),
+        "merged rows out of time order"
+    );
+}

@@ -597,6 +597,11 @@ pub struct Simulation {
     events_copied: std::sync::atomic::AtomicUsize,
     /// The impact in progress.
     contact_phase: Option<impact::ContactPhase>,
+    /// Whether the sub-steps inside impacts are recorded ([`Simulation::record_impacts`]).
+    recording_impacts: bool,
+    /// The records of the sub-steps inside impacts not yet taken
+    /// ([`Simulation::take_impact_records`]; roll-backs truncate it).
+    impact_records: Vec<StepRecord>,
     scratch: Vec<f64>,
     /// `(t, α)` at the start of the previous (sub)step, for the predictor's `α̇`.
     previous_alpha: Option<(f64, f64)>,
@@ -704,6 +709,8 @@ impl Simulation {
             events: Vec::new(),
             events_copied: Default::default(),
             contact_phase: None,
+            recording_impacts: false,
+            impact_records: Vec::new(),
             solver,
             state,
             lambda: [0.0; 2],

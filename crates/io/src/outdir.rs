@@ -22,8 +22,10 @@ pub const RUN_PREFIX: &str = "run-";
 pub const LATEST: &str = "latest";
 
 /// Files a run may write at the top of its folder (besides `frames/`).
-pub const RUN_FILES: [&str; 10] = [
+pub const RUN_FILES: [&str; 12] = [
     "results.csv",
+    "events.csv",
+    "impacts.csv",
     crate::run::CHECKPOINT_SNAP,
     crate::run::CHECKPOINT_TOML,
     super::status::STATUS_JSON,

@@ -63,6 +63,45 @@ impl History {
         Self::parse_csv(&text).map_err(|m| Error::Input(format!("{}: {m}", path.display())))
     }
 
+    /// Reads several CSV files of the same header (`results.csv` and `impacts.csv`) as one
+    /// history, the rows in time order.
+    pub fn read_csvs(paths: &[&Path]) -> Result<Self, Error> {
+        let mut header: Option<String> = None;
+        let mut rows: Vec<(f64, String)> = Vec::new();
+        for path in paths {
+            let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+            let mut lines = text.lines().filter(|l| !l.trim().is_empty() && !l.starts_with('#'));
+            let first = lines.next().unwrap_or_default();
+            match &header {
+                Some(h) if h != first => {
+                    return Err(Error::Input(format!(
+                        "{}: the header differs from that of {}",
+                        path.display(),
+                        paths[0].display()
+                    )))
+                }
+                Some(_) => {}
+                None => header = Some(first.to_string()),
+            }
+            for line in lines {
+                // an unreadable time sorts first; parse_csv then names the line
+                let t = line
+                    .split(',')
+                    .next()
+                    .and_then(|c| c.trim().parse().ok())
+                    .unwrap_or(f64::NEG_INFINITY);
+                rows.push((t, line.to_string()));
+            }
+        }
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut text = header.unwrap_or_default();
+        for (_, line) in rows {
+            text.push('\n');
+            text.push_str(&line);
+        }
+        Self::parse_csv(&text).map_err(|m| Error::Input(format!("{} and the others: {m}", paths[0].display())))
+    }
+
     /// Parses CSV text with a header line (see [`History::read_csv`]).
     pub fn parse_csv(text: &str) -> Result<Self, String> {
         let mut lines = text

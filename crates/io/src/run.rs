@@ -265,6 +265,21 @@ fn resume(dir: &std::path::Path, sim: &mut Simulation) -> Result<Resumed, Error>
     Ok((rows, times))
 }
 
+/// Cuts the rows of a CSV file (a header line, then rows whose first column is the time) after
+/// time `t`, for a restarted run: the rows after its checkpoint are computed again.
+fn cut_rows_after(path: &std::path::Path, t: f64) -> Result<(), Error> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let mut kept = String::new();
+    for (i, line) in text.lines().enumerate() {
+        let time = line.split(',').next().and_then(|c| c.parse::<f64>().ok());
+        if i == 0 || time.is_some_and(|time| time <= t) {
+            kept.push_str(line);
+            kept.push('\n');
+        }
+    }
+    crate::vtu::write_atomically(path, |w| w.write_all(kept.as_bytes()))
+}
+
 /// Header of `events.csv`.
 pub const EVENTS_HEADER: &str = "time_s,event,theta_rad,omega_rad_s,impulse_N_s,max_penetration_m,max_force_N";
 
@@ -430,6 +445,21 @@ fn run_steps(
         true => CsvWriter::append(&csv_path, &header)?,
         false => CsvWriter::create(&csv_path, &header)?,
     };
+    // with a wall, the sub-steps inside impacts go to impacts.csv (the columns of results.csv)
+    let mut impacts_csv = match sim.model.wall.is_some() {
+        true => {
+            sim.record_impacts(true);
+            let path = out_dir.join(crate::writers::names::IMPACTS_CSV);
+            Some(match opts.restart && path.is_file() {
+                true => {
+                    cut_rows_after(&path, sim.state.t)?;
+                    CsvWriter::append(&path, &header)?
+                }
+                false => CsvWriter::create(&path, &header)?,
+            })
+        }
+        false => None,
+    };
     let mut summary = RunSummary {
         out_dir: out_dir.clone(),
         mesh_triangles: sim.model.mesh.triangles.len(),
@@ -567,6 +597,11 @@ fn run_steps(
             Ok(its) => record = sim.record(its),
             Err(e) => break Err(e),
         }
+        if let Some(w) = impacts_csv.as_mut() {
+            if let Err(e) = sim.take_impact_records().iter().try_for_each(|r| w.row(&csv_values(r))) {
+                break Err(e);
+            }
+        }
     };
     progress.finish();
     // Finish every output with what was computed; the first error wins.
@@ -580,6 +615,14 @@ fn run_steps(
     }
     if sim.model.wall.is_some() {
         summary.files.push(out_dir.join("events.csv"));
+    }
+    if let Some(w) = impacts_csv {
+        match w.finish() {
+            Ok(path) => summary.files.push(path),
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
     }
     match csv.finish() {
         Ok(path) => summary.files.push(path),
@@ -849,5 +892,24 @@ impl FrameWriter {
             .join()
             .map_err(|_| Error::Input("the frame writer thread panicked".into()))??;
         writers.finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cut_rows_after;
+
+    #[test]
+    fn a_restart_cuts_the_impact_rows_after_its_checkpoint_and_keeps_the_header() {
+        let dir = std::env::temp_dir().join(format!("pendulum-fem-cut-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("impacts.csv");
+        std::fs::write(&path, "time_s,theta_rad\n0.1,1\n0.2,2\n0.25,3\n0.3,4\n").unwrap();
+        cut_rows_after(&path, 0.25).unwrap();
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            "time_s,theta_rad\n0.1,1\n0.2,2\n0.25,3\n"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

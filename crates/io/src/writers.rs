@@ -56,6 +56,9 @@ pub mod names {
     pub const RESULTS_CSV: &str = "results.csv";
     /// The contact events of a run with a wall (read by the plots for the impact marks).
     pub const EVENTS_CSV: &str = "events.csv";
+    /// The records of the sub-steps inside impacts, the columns of `results.csv` (read by the
+    /// plots beside it).
+    pub const IMPACTS_CSV: &str = "impacts.csv";
     /// θ(t) plot.
     pub const THETA_PNG: &str = "theta.png";
     /// Energy plot.
@@ -303,9 +306,16 @@ impl FrameWriters {
         let mut paths = self.pvd.map(PvdWriter::into_paths).unwrap_or_default();
         let csv = self.dir.join(names::RESULTS_CSV);
         let events = self.dir.join(names::EVENTS_CSV);
-        // a run with a wall (contact columns in results.csv) marks its impacts from events.csv
+        let impacts = self.dir.join(names::IMPACTS_CSV);
+        // a run with a wall (contact columns in results.csv) marks its impacts from events.csv,
+        // and draws them with the records of their sub-steps (impacts.csv)
         let history = (self.output.plots || self.output.viewer).then(|| {
-            History::read_csv(&csv).and_then(|mut h| {
+            let read = if impacts.is_file() {
+                History::read_csvs(&[&csv, &impacts])
+            } else {
+                History::read_csv(&csv)
+            };
+            read.and_then(|mut h| {
                 if h.has_wall() && events.is_file() {
                     h.read_impacts(&events)?;
                 }

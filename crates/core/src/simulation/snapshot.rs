@@ -212,6 +212,7 @@ impl std::fmt::Display for Fingerprint {
 pub(super) struct Rollback {
     pub(super) snapshot: Snapshot,
     events: usize,
+    impact_records: usize,
 }
 
 impl Simulation {
@@ -227,6 +228,7 @@ impl Simulation {
         Rollback {
             snapshot: self.snapshot_with(Vec::new()),
             events: self.events.len(),
+            impact_records: self.impact_records.len(),
         }
     }
 
@@ -234,6 +236,7 @@ impl Simulation {
     pub(super) fn roll_back(&mut self, r: &Rollback) {
         self.apply_fields(&r.snapshot);
         self.events.truncate(r.events);
+        self.impact_records.truncate(r.impact_records);
     }
 
     /// Contact events copied so far by [`Simulation::snapshot`] and [`Simulation::restore`] (a cost
@@ -289,6 +292,8 @@ impl Simulation {
         self.apply_fields(snapshot);
         self.events_copied.fetch_add(snapshot.events.len(), Ordering::Relaxed);
         self.events = snapshot.events.clone();
+        // the records belong to the steps the restore undoes or skips
+        self.impact_records.clear();
         Ok(())
     }
 
