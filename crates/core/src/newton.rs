@@ -610,8 +610,12 @@ impl Solver {
     /// states (`+∞`).
     ///
     /// Each iteration solves for the update, evaluates `r` at `u + sΔu` (`s = 1` first) and takes
-    /// it when the residual `‖r + Cᵀλ‖∞` decreases or is already within the bound; otherwise it
-    /// refactorises at `u` (a reused factorisation) or halves `s`. It has converged when the update
+    /// it when the residual `‖r + Cᵀλ‖∞` decreases or is already within the bound, or when the
+    /// simplified correction there is shorter in the tangent's energy norm than the update by the
+    /// factor `(1 − s/4)²` (Deuflhard's natural monotonicity test); otherwise it refactorises at
+    /// `u` (a reused factorisation) or halves `s`. A reused factorisation is renewed when it
+    /// contracts the residual by less than [`REFACTOR_CONTRACTION`], or when at its contraction it
+    /// would need more than [`REUSE_HORIZON`] further iterations. It has converged when the update
     /// satisfies `δ² = Δuᵀ K̃ Δu < tolerance` (the criterion of [`Solver::minimize`]), the residual
     /// is within `residual_tolerance · load_scale` (with its rounding floor), and, with `energy`
     /// given as `(u₀, bound)`, `|½ (u − u₀) · r(u)| ≤ bound`: for the energy-momentum step that is
