@@ -563,6 +563,22 @@ mod tests {
         }
     }
 
+    /// `keep` applied to a frame of two nodes displaced by `u` at angle `theta` (no velocity,
+    /// acceleration or stress).
+    fn two_node_frame(theta: f64, u: &[[f64; 2]; 2], keep: impl Fn(&Frame<'_>) -> KeptFrame) -> KeptFrame {
+        let zeros = [[0.0; 2]; 2];
+        keep(&Frame {
+            step: 1,
+            time: 0.01,
+            theta,
+            displacement: u,
+            velocity: &zeros,
+            acceleration: &zeros,
+            von_mises: &[0.0; 2],
+            cauchy: &[[0.0; 3]; 2],
+        })
+    }
+
     #[test]
     fn the_displacement_animation_colours_the_elastic_part_it_magnifies_not_the_rigid_swing() {
         // node 0 turned rigidly by θ (|u| = 0.06 m, no elastic part); node 1 the same plus 1 µm
@@ -572,18 +588,7 @@ mod tests {
         let rigid = |x: [f64; 2]| [c * x[0] - s * x[1] - x[0], s * x[0] + c * x[1] - x[1]];
         let (r0, r1) = (rigid(nodes[0]), rigid(nodes[1]));
         let u = [r0, [r1[0] + 1e-6, r1[1]]];
-        let zeros = [[0.0; 2]; 2];
-        let frame = Frame {
-            step: 1,
-            time: 0.01,
-            theta,
-            displacement: &u,
-            velocity: &zeros,
-            acceleration: &zeros,
-            von_mises: &[0.0; 2],
-            cauchy: &[[0.0; 3]; 2],
-        };
-        let f = KeptFrame::from_frame(&nodes, &frame);
+        let f = two_node_frame(theta, &u, |frame| KeptFrame::from_frame(&nodes, frame));
         let shown = AnimField::Displacement.values(&f);
         // f32 storage: the rigid part of 0.06 m cancels to within its rounding, ~1e-8 m
         assert!(shown[0] < 1e-8, "rigid node coloured {}", shown[0]);
@@ -597,18 +602,7 @@ mod tests {
         let nodes = [[0.0, -0.3], [-0.1, -0.3]];
         let theta: f64 = 0.2;
         let u = [[0.3 * theta.sin(), 0.3 - 0.3 * theta.cos()], [1e-6, 0.0]];
-        let zeros = [[0.0; 2]; 2];
-        let frame = Frame {
-            step: 1,
-            time: 0.01,
-            theta,
-            displacement: &u,
-            velocity: &zeros,
-            acceleration: &zeros,
-            von_mises: &[0.0; 2],
-            cauchy: &[[0.0; 3]; 2],
-        };
-        let f = KeptFrame::from_frame_of_bodies(&nodes, 1, &frame);
+        let f = two_node_frame(theta, &u, |frame| KeptFrame::from_frame_of_bodies(&nodes, 1, frame));
         assert!(
             f.elastic[0][0].abs() < 1e-7 && f.elastic[0][1].abs() < 1e-7,
             "{:?}",
@@ -623,7 +617,10 @@ mod tests {
         );
         assert!((p[1][0] - (-0.1 + 1e-2)).abs() < 1e-9 && p[1][1] == -0.3, "{:?}", p[1]);
         // one body: every node turns, as before
-        assert_eq!(KeptFrame::from_frame(&nodes, &frame).rotating, 2);
+        assert_eq!(
+            two_node_frame(theta, &u, |frame| KeptFrame::from_frame(&nodes, frame)).rotating,
+            2
+        );
     }
 
     #[test]
