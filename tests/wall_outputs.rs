@@ -613,3 +613,60 @@ fn every_impact_is_resolved_in_impacts_csv_so_identical_impacts_look_identical()
         "merged rows out of time order"
     );
 }
+
+#[test]
+fn energy_png_draws_identical_impacts_identically_and_overlays_them_on_their_own_time_scale() {
+    let dir = wall_run();
+    let path = dir.join("energy.png");
+    let (w, h, px) = png_rgb(&path);
+    let px = &px;
+    let count = |x: usize, rows: std::ops::Range<usize>, rgb: [u8; 3]| rows.filter(|&y| px[y * w + x] == rgb).count();
+    let (red, orange) = ([214, 39, 40], [255, 127, 14]);
+    // the panels' rows (figure of 1000 × 1190 px: title, upper panel to about 500, strain panel
+    // to about 850, impact panel below)
+    assert_eq!((w, h), (1000, 1190));
+    let (upper, strain, closeup) = (60..500, 520..850, 860..h);
+    let marks = column_groups(&path, IMPACT_RGB, 200);
+    assert_eq!(marks.len(), 3, "impact marks at {marks:?}");
+    // the extent of a colour in the columns around each mark
+    let extent = |x: f64, rows: std::ops::Range<usize>, rgb: [u8; 3]| {
+        let ys: Vec<usize> = (x as usize - 5..=x as usize + 5)
+            .flat_map(|c| rows.clone().filter(move |&y| px[y * w + c] == rgb))
+            .collect();
+        (*ys.iter().min().unwrap(), *ys.iter().max().unwrap())
+    };
+    // the contact energy's spike: the peaks in impacts.csv agree to 1e-3 (0.1157 J), less than a
+    // pixel, so every spike runs between the same two rows, over 100 px (0 to 0.116 J)
+    let spikes: Vec<(usize, usize)> = marks.iter().map(|&x| extent(x, upper.clone(), red)).collect();
+    for s in &spikes {
+        assert_eq!(*s, spikes[0], "contact spikes between rows {spikes:?}");
+    }
+    assert!(spikes[0].1 - spikes[0].0 > 100, "{spikes:?}");
+    // the strain energy's peaks differ by up to 3 % in impacts.csv (its ringing sampled every
+    // 72 µs): each spike reaches at least 95 % of the tallest one's height above the baseline
+    let base = (strain.start..strain.end)
+        .max_by_key(|&y| (0..w).filter(|&c| px[y * w + c] == orange).count())
+        .unwrap();
+    let heights: Vec<f64> = marks
+        .iter()
+        .map(|&x| (base - extent(x, strain.clone(), orange).0) as f64)
+        .collect();
+    let tallest = heights.iter().cloned().fold(0.0, f64::max);
+    assert!(
+        tallest > 150.0 && heights.iter().all(|&v| v >= 0.95 * tallest),
+        "strain spikes {heights:?} px"
+    );
+    // the impact panel: the contact energy over most of its width, the three impacts on one
+    // curve (a 2 px line drawn three times where they coincide: at most 6 px in any column,
+    // where the curve is steep)
+    let columns: Vec<usize> = (0..w).map(|x| count(x, closeup.clone(), red)).collect();
+    let drawn: Vec<usize> = columns.iter().copied().filter(|&n| n > 0).collect();
+    assert!(drawn.len() > 600, "the contact curve over {} columns", drawn.len());
+    let mut sorted = drawn.clone();
+    sorted.sort();
+    assert!(
+        sorted[sorted.len() / 2] <= 4,
+        "median thickness {} px",
+        sorted[sorted.len() / 2]
+    );
+}

@@ -9,12 +9,9 @@
 //!   torque the release angle bounds nothing, so the lines are left out and the torque M(t) is
 //!   drawn instead, on its own axis at the right; they are left out too when the body turns over
 //!   (|θ| > 180°, a spin).
-//! - `energy.png`: the kinetic energy and the *changes* since t = 0 of the gravitational and the
-//!   total energy \[J\] (and, with a torque, the work it has done), so every curve lives on the
-//!   scale of the motion: the gravitational energy itself (about −2 J for the default pendulum,
-//!   measured from the pivot) would squeeze a 0.12 J kinetic energy flat. The strain energy of a
-//!   steel pendulum is about a millionth of the others and would lie flat on zero, so a second
-//!   panel shows it alone on its own scale; the figure's caption states the ratio.
+//! - `energy.png` ([`energy`]): the kinetic energy and the *changes* since t = 0 of the
+//!   gravitational and the total energy, the strain energy in a panel of its own, and with a wall
+//!   every impact on its own time scale.
 //!
 //! `results.csv` is read by column name (`time_s`, `theta_rad`, `kinetic_J`, `strain_J`,
 //! `gravity_J`, `total_J`, and `torque_Nm`, `torque_work_J` when present); more columns are ignored. Drawing uses plotters' bitmap backend into an
@@ -27,6 +24,8 @@ use plotters::prelude::*;
 
 use super::font;
 use crate::Error;
+
+pub mod energy;
 
 /// The columns of `results.csv` the plots use, one entry per row.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -240,7 +239,7 @@ pub const IMPACT_RGB: (u8, u8, u8) = (148, 103, 189);
 
 /// Draws the impacts of `h` on `chart` (a shaded span from start to end and a line at the start,
 /// over `lo..hi`) with one legend entry.
-fn draw_impacts<DB: DrawingBackend>(
+pub(crate) fn draw_impacts<DB: DrawingBackend>(
     chart: &mut ChartContext<
         '_,
         DB,
@@ -277,16 +276,15 @@ where
 }
 
 const THETA_SIZE: (u32, u32) = (1000, 600);
-const ENERGY_SIZE: (u32, u32) = (1000, 850);
 
 /// Writes `theta.png`.
 pub fn write_theta_png(path: &Path, h: &History) -> Result<(), Error> {
     render_png(path, THETA_SIZE, |root| draw_theta(root, h))
 }
 
-/// Writes `energy.png`.
+/// Writes `energy.png` (see [`energy`]).
 pub fn write_energy_png(path: &Path, h: &History) -> Result<(), Error> {
-    render_png(path, ENERGY_SIZE, |root| draw_energy(root, h))
+    render_png(path, energy::size(h), |root| energy::draw(root, h))
 }
 
 pub(crate) type Root<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
@@ -350,11 +348,11 @@ pub(crate) fn axis_label(v: f64, span: f64) -> String {
 }
 
 /// Raises the top of a range by 30 % so the legend sits above the curves.
-fn with_legend_room((lo, hi): (f64, f64)) -> (f64, f64) {
+pub(crate) fn with_legend_room((lo, hi): (f64, f64)) -> (f64, f64) {
     (lo, hi + 0.3 * (hi - lo))
 }
 
-fn time_range(h: &History) -> (f64, f64) {
+pub(crate) fn time_range(h: &History) -> (f64, f64) {
     let t0 = h.time.first().copied().unwrap_or(0.0);
     let t1 = h.time.last().copied().unwrap_or(1.0);
     if t1 > t0 {
@@ -406,18 +404,7 @@ fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
         .right_y_label_area_size(if torque { 80 } else { 0 })
         .build_cartesian_2d(t0..t1, lo..hi)?
         .set_secondary_coord(t0..t1, mlo..mhi);
-    let (xs, ys) = (t1 - t0, hi - lo);
-    chart
-        .configure_mesh()
-        .x_desc("time t [s]")
-        .y_desc("angle θ [deg]")
-        .axis_desc_style(("sans-serif", 18))
-        .label_style(("sans-serif", 15))
-        .x_label_formatter(&|v| axis_label(*v, xs))
-        .y_label_formatter(&|v| axis_label(*v, ys))
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(205, 205, 205))
-        .draw()?;
+    draw_mesh(&mut chart, ("time t [s]", "angle θ [deg]"), (t1 - t0, hi - lo))?;
     draw_impacts(&mut chart, h, (lo, hi))?;
     let blue = RGBColor(31, 119, 180);
     let points: Vec<(f64, f64)> = h.time.iter().copied().zip(deg.iter().copied()).collect();
@@ -457,63 +444,24 @@ fn draw_theta(root: &Root<'_>, h: &History) -> DrawResult {
             .label(format!("{name} = {:+.2}°", y))
             .legend(move |(x, yy)| PathElement::new(vec![(x, yy), (x + 24, yy)], color.stroke_width(2)));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .label_font(("sans-serif", 15))
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(160, 160, 160))
-        .draw()?;
-    Ok(())
+    draw_legend(&mut chart)
 }
 
-fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
-    let peak = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-    let (k_peak, s_peak) = (peak(&h.kinetic), peak(&h.strain));
-    let ratio = if k_peak > 0.0 {
-        format!("{:.1e}", s_peak / k_peak)
-    } else {
-        "n/a".into()
-    };
-    let root = root.titled("Energy over time", ("sans-serif", 26))?;
-    let note = format!(
-        "Gravitational and total energy as changes since t = 0. Strain energy peaks at {ratio} × the kinetic peak: \
-         the lower panel shows it on its own scale."
-    );
-    root.draw(&Text::new(
-        note,
-        (20, 0),
-        ("sans-serif", 15).into_font().color(&RGBColor(60, 60, 60)),
-    ))?;
-    let body = root.margin(24, 0, 0, 0);
-    let (upper, lower) = body.split_vertically((ENERGY_SIZE.1 as f64 * 0.56) as u32);
-    let (t0, t1) = time_range(h);
-    let xs = t1 - t0;
-
-    let curves = h.energy_curves();
-    let colours = [
-        RGBColor(31, 119, 180),
-        RGBColor(44, 160, 44),
-        BLACK,
-        RGBColor(214, 39, 40),
-        RGBColor(140, 86, 75),
-    ];
-    let series: Vec<(&str, &[f64], RGBColor)> = curves
-        .iter()
-        .zip(colours)
-        .map(|((name, v), c)| (*name, v.as_slice(), c))
-        .collect();
-    let (lo, hi) = with_legend_room(range_of(series.iter().flat_map(|s| s.1.iter())));
-    let ys = hi - lo;
-    let mut chart = ChartBuilder::on(&upper)
-        .margin(14)
-        .x_label_area_size(45)
-        .y_label_area_size(85)
-        .build_cartesian_2d(t0..t1, lo..hi)?;
+/// Draws the grid, the axes' labels (for axes spanning `spans`) and their descriptions `descs` of
+/// `chart`, in the plots' style.
+pub(crate) fn draw_mesh<'a, 'b: 'a>(
+    chart: &mut ChartContext<
+        'a,
+        BitMapBackend<'b>,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    (x_desc, y_desc): (&str, &str),
+    (xs, ys): (f64, f64),
+) -> DrawResult {
     chart
         .configure_mesh()
-        .x_desc("time t [s]")
-        .y_desc("energy, change since t = 0 [J]")
+        .x_desc(x_desc)
+        .y_desc(y_desc)
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 15))
         .x_label_formatter(&|v| axis_label(*v, xs))
@@ -521,18 +469,17 @@ fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
         .light_line_style(RGBColor(235, 235, 235))
         .bold_line_style(RGBColor(205, 205, 205))
         .draw()?;
-    draw_impacts(&mut chart, h, (lo, hi))?;
-    // the contact energy first, under the others: between impacts it lies on the total's zero
-    let (under, over): (Vec<_>, Vec<_>) = series.into_iter().partition(|s| s.0.starts_with("contact"));
-    for (name, values, color) in under.into_iter().chain(over) {
-        chart
-            .draw_series(LineSeries::new(
-                h.time.iter().copied().zip(values.iter().copied()),
-                color.stroke_width(2),
-            ))?
-            .label(name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2)));
-    }
+    Ok(())
+}
+
+/// Draws the legend of `chart` in the upper right corner, in the plots' style.
+pub(crate) fn draw_legend<'a, 'b: 'a>(
+    chart: &mut ChartContext<
+        'a,
+        BitMapBackend<'b>,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+) -> DrawResult {
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
@@ -540,31 +487,6 @@ fn draw_energy(root: &Root<'_>, h: &History) -> DrawResult {
         .background_style(WHITE.mix(0.85))
         .border_style(RGBColor(160, 160, 160))
         .draw()?;
-
-    let (slo, shi) = range_of(h.strain.iter());
-    let ss = shi - slo;
-    let orange = RGBColor(255, 127, 14);
-    let mut chart = ChartBuilder::on(&lower)
-        .caption("Strain energy alone (own scale)", ("sans-serif", 18))
-        .margin(14)
-        .x_label_area_size(45)
-        .y_label_area_size(85)
-        .build_cartesian_2d(t0..t1, slo..shi)?;
-    chart
-        .configure_mesh()
-        .x_desc("time t [s]")
-        .y_desc("strain energy [J]")
-        .axis_desc_style(("sans-serif", 18))
-        .label_style(("sans-serif", 15))
-        .x_label_formatter(&|v| axis_label(*v, xs))
-        .y_label_formatter(&|v| axis_label(*v, ss))
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(205, 205, 205))
-        .draw()?;
-    chart.draw_series(LineSeries::new(
-        h.time.iter().copied().zip(h.strain.iter().copied()),
-        orange.stroke_width(2),
-    ))?;
     Ok(())
 }
 
