@@ -44,13 +44,18 @@ use pendulum_fem::commands::run::{run, RunEnd, RunOptions, RunSummary};
 use pendulum_fem::io::csv::read_numeric_csv;
 use pendulum_fem::Config;
 
-/// Cases run by `cargo test`: about 8 minutes on two cores, most of it the known open cases
-/// ([`KNOWN_OPEN`]) running into [`CASE_SECONDS`].
+/// Cases run by `cargo test` (without `ROBUST_CASES`).
 const CI_CASES: usize = 12;
 
-/// Wall time after which a case counts as hanging \[s\] (the slowest passing case takes about a
-/// tenth of it).
+/// Wall time after which a case counts as hanging \[s\] (the slowest passing case of the CI range
+/// takes about a third of it beside a second case).
 const CASE_SECONDS: u64 = 120;
+
+/// The wall time a known open case ([`KNOWN_OPEN`]) gets in the CI range \[s\]: enough to show
+/// whether it still fails (each ran past [`CASE_SECONDS`] or failed sooner) without spending CI's
+/// time on an outcome that is not asserted; one that passes in it is reported, to be taken off
+/// the list. A long campaign gives every case [`CASE_SECONDS`].
+const KNOWN_OPEN_SECONDS: u64 = 15;
 
 /// The energy balance's bar, over the available energy.
 const ENERGY_BAR: f64 = 1e-6;
@@ -211,8 +216,9 @@ fn draw(seed: u64, index: usize) -> Case {
 }
 
 /// Cases of seed 17 that still fail (issue 17 is open on them), with what they did when last run
-/// (beside a second case, as in CI): they are run and their outcome is printed with their
-/// configuration, but not asserted, so that the campaign guards every other case. All but one
+/// for [`CASE_SECONDS`] beside a second case: in the CI range they run for [`KNOWN_OPEN_SECONDS`]
+/// and their outcome is printed with their configuration, but not asserted, so that the campaign
+/// guards every other case. All but one
 /// strike a wall. What is known of them: inside an impact Newton's symmetric approximation of the
 /// energy-momentum Jacobian is accurate (a finite-difference check along the update agrees to
 /// 1e-3 for the contact and 2–10 % for the strain energy), yet it contracts by only 0.2–0.5 per
@@ -222,8 +228,14 @@ fn draw(seed: u64, index: usize) -> Case {
 /// step; a soft Neo-Hookean head (case 7, and case 20 beyond the CI range) can cycle between two
 /// iterates at a contact point. The other (10) is a light plate spun to about 1800 rad/s: it
 /// passes in 41 s alone, but its quarter-turn sub-steps take 12,000 Newton iterations and beside
-/// a second case it runs past the time limit. A long campaign (`ROBUST_CASES=N`, any seed)
-/// asserts every case.
+/// a second case it runs past the time limit. Where the time goes in case 9 (which passes alone
+/// in 108 s: 9638 unknowns, 629 steps): before its first impact a step takes 4 Newton
+/// iterations, after it 8–11 in free flight. The rotational guess carries the ringing the blow
+/// left over unchanged, while the midpoint rule turns an unresolved mode nearly into its mirror
+/// image each step, so the first residual is about 20 N; and the symmetric tangent, made with
+/// the end-of-step deformation gradient where the discrete gradient has the mid-step one, misses
+/// half the step's rotation (Δφ/2 ≈ 0.02), so a fresh tangent contracts by only 0.02–0.08 per
+/// iteration. A long campaign (`ROBUST_CASES=N`, any seed) asserts every case.
 const KNOWN_OPEN: &[(usize, &str)] = &[
     (
         0,
@@ -270,8 +282,9 @@ fn scratch() -> PathBuf {
     dir
 }
 
-/// Runs `case`; `Err` with a description of what failed.
-fn run_case(case: &Case, root: &std::path::Path) -> Result<Measured, String> {
+/// Runs `case`, stopping it after `limit` seconds of wall time; `Err` with a description of what
+/// failed.
+fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured, String> {
     let config = Config::from_toml_str(&case.toml).map_err(|e| format!("configuration refused: {e}"))?;
     let out = root.join(format!("case-{}", case.index));
     let stop = Arc::new(AtomicBool::new(false));
@@ -284,14 +297,11 @@ fn run_case(case: &Case, root: &std::path::Path) -> Result<Measured, String> {
         ..Default::default()
     };
     let started = std::time::Instant::now();
-    // a case that has not finished in CASE_SECONDS is stopped at its next step (and fails)
+    // a case that has not finished in `limit` seconds is stopped at its next step (and fails)
     let (done, finished) = std::sync::mpsc::channel::<()>();
     let result = std::thread::scope(|s| {
         s.spawn(move || {
-            if finished
-                .recv_timeout(std::time::Duration::from_secs(CASE_SECONDS))
-                .is_err()
-            {
+            if finished.recv_timeout(std::time::Duration::from_secs(limit)).is_err() {
                 stop.store(true, Ordering::SeqCst);
             }
         });
@@ -302,7 +312,7 @@ fn run_case(case: &Case, root: &std::path::Path) -> Result<Measured, String> {
     let summary: RunSummary = match result {
         Ok(s) if s.end == RunEnd::Interrupted => {
             return Err(format!(
-                "not finished after {CASE_SECONDS} s of wall time (stopped at t = {} s, {} steps, {} cut-backs)",
+                "not finished after {limit} s of wall time (stopped at t = {} s, {} steps, {} cut-backs)",
                 s.time_reached, s.steps, s.cutbacks
             ))
         }
@@ -370,8 +380,11 @@ fn env_number(name: &str, default: u64) -> u64 {
 
 #[test]
 fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_bounded_penetration() {
+    let campaign = std::env::var_os("ROBUST_CASES").is_some();
     let cases = env_number("ROBUST_CASES", CI_CASES as u64) as usize;
     let seed = env_number("ROBUST_SEED", 17);
+    // the known open cases of the CI range: run briefly and reported, not asserted
+    let known_open = |i: usize| !campaign && seed == 17 && KNOWN_OPEN.iter().any(|(k, _)| *k == i);
     let first = env_number("ROBUST_FIRST", 0) as usize;
     let root = scratch();
     let next = AtomicUsize::new(first);
@@ -386,7 +399,12 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
                     break;
                 }
                 let case = draw(seed, index);
-                match run_case(&case, &root) {
+                let limit = if known_open(index) {
+                    KNOWN_OPEN_SECONDS
+                } else {
+                    CASE_SECONDS
+                };
+                match run_case(&case, &root, limit) {
                     Ok(m) => {
                         let _ = std::fs::remove_dir_all(root.join(format!("case-{index}")));
                         measured.lock().unwrap().push((index, m));
@@ -428,7 +446,7 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
         .into_inner()
         .unwrap()
         .into_iter()
-        .partition(|(i, _, _)| seed == 17 && KNOWN_OPEN.iter().any(|(k, _)| k == i));
+        .partition(|(i, _, _)| known_open(*i));
     for (i, why, _) in &known {
         report.push_str(&format!("known open case {i} (issue 17): {why}\n"));
     }
@@ -439,7 +457,7 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
     let open_passed: Vec<usize> = KNOWN_OPEN
         .iter()
         .map(|(k, _)| *k)
-        .filter(|k| (first..first + cases).contains(k) && seed == 17 && !known.iter().any(|(i, _, _)| i == k))
+        .filter(|&k| (first..first + cases).contains(&k) && known_open(k) && !known.iter().any(|(i, _, _)| *i == k))
         .collect();
     if !open_passed.is_empty() {
         report.push_str(&format!("known open cases that passed this time: {open_passed:?}\n"));
