@@ -516,6 +516,7 @@ impl Solver {
     ) -> Option<(Vec<f64>, [f64; 2])> {
         let n = u.len();
         let g0 = self.g.clone();
+        let reach = length_scale + u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let apply = |this: &mut Self, x: &[f64], mu: [f64; 2]| -> Option<Vec<f64>> {
             let size = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             if size == 0.0 {
@@ -525,7 +526,7 @@ impl Solver {
                         .collect(),
                 );
             }
-            let h = DIFFERENCE_STEP * (length_scale + u.iter().fold(0.0f64, |a, v| a.max(v.abs()))) / size;
+            let h = DIFFERENCE_STEP * reach / size;
             let shifted: Vec<f64> = (0..n).map(|i| u[i] + h * x[i]).collect();
             if !this.energy_gradient(terms, &shifted, cx).is_finite() {
                 return None;
@@ -549,12 +550,11 @@ impl Solver {
             if beta.is_nan() || beta <= KRYLOV_TOLERANCE * g_norm {
                 return None;
             }
-            const K: usize = KRYLOV_DIMENSION;
             let mut v: Vec<Vec<f64>> = vec![rho.iter().map(|x| x / beta).collect()];
             let mut z: Vec<(Vec<f64>, [f64; 2])> = Vec::new();
-            let mut hess = [[0.0f64; K]; K + 1];
+            let mut hess = [[0.0f64; KRYLOV_DIMENSION]; KRYLOV_DIMENSION + 1];
             let mut best = None;
-            for j in 0..K {
+            for j in 0..KRYLOV_DIMENSION {
                 self.rhs[..n].copy_from_slice(&v[j]);
                 let (x, mu) = self.saddle_solve(None, dphi, turn);
                 let mut w = apply(self, &x, mu)?;

@@ -68,11 +68,16 @@ pub fn bars(t: &[f64], v: &[f64], (t0, t1): (f64, f64), columns: usize, impacts:
     let width = (t1 - t0) / columns as f64;
     let column_of = |t: f64| (((t - t0) / width).floor().max(0.0) as usize).min(columns - 1);
     let mut out: Vec<(Option<usize>, usize, Bar)> = Vec::new();
+    // the samples and the impacts are in time order: the first impact not yet over
+    let mut next = 0;
     for (&ti, &vi) in t.iter().zip(v) {
         if !(ti.is_finite() && vi.is_finite()) {
             continue;
         }
-        let impact = impacts.iter().position(|&(s, e)| (s..=e).contains(&ti));
+        while next < impacts.len() && impacts[next].1 < ti {
+            next += 1;
+        }
+        let impact = (next < impacts.len() && impacts[next].0 <= ti).then_some(next);
         let column = column_of(impact.map_or(ti, |k| impacts[k].0));
         match out.last_mut() {
             Some((k, c, bar)) if *k == impact && *c == column => {
@@ -209,14 +214,15 @@ pub fn draw(root: &Root<'_>, h: &History) -> DrawResult {
     let columns = chart.plotting_area().dim_in_pixel().0 as usize;
     // the contact energy first, under the others: between impacts it lies on the total's zero;
     // its impact bars again last, on top of the kinetic energy's dip in the same columns
-    let (under, over): (Vec<_>, Vec<_>) = series.into_iter().partition(|s| s.0.starts_with("contact"));
-    for &(name, values, colour) in under.iter().chain(&over) {
-        let bars = bars(&h.time, values, span, columns, &h.impacts);
-        draw_bars(&mut chart, &bars, y, colour, Some(name), false)?;
+    let (under, over): (Vec<_>, Vec<_>) = series
+        .into_iter()
+        .map(|(name, values, colour)| (name, bars(&h.time, values, span, columns, &h.impacts), colour))
+        .partition(|s| s.0.starts_with("contact"));
+    for (name, bars, colour) in under.iter().chain(&over) {
+        draw_bars(&mut chart, bars, y, *colour, Some(name), false)?;
     }
-    for &(_, values, colour) in &under {
-        let bars = bars(&h.time, values, span, columns, &h.impacts);
-        draw_bars(&mut chart, &bars, y, colour, None, true)?;
+    for (_, bars, colour) in &under {
+        draw_bars(&mut chart, bars, y, *colour, None, true)?;
     }
     draw_legend(&mut chart)?;
 
@@ -267,8 +273,9 @@ fn draw_impact_panel(area: &Root<'_>, h: &History) -> DrawResult {
         (x, y),
         ("time since the impact's start [ms]", "energy [J]"),
     )?;
-    for (pick, colour, name) in [(1, BLUE, "kinetic"), (2, RED, "contact")] {
-        let value = |p: &(f64, f64, f64)| if pick == 1 { p.1 } else { p.2 };
+    let kinetic: fn(&(f64, f64, f64)) -> f64 = |p| p.1;
+    let contact: fn(&(f64, f64, f64)) -> f64 = |p| p.2;
+    for (value, colour, name) in [(kinetic, BLUE, "kinetic"), (contact, RED, "contact")] {
         let mut anno = None;
         for samples in &impacts {
             anno = Some(chart.draw_series(LineSeries::new(
