@@ -234,6 +234,27 @@ fn a_wall_that_overlaps_the_released_pendulum_is_an_error_naming_the_keys() {
 }
 
 #[test]
+fn a_pendulum_released_away_from_a_deformable_wall_is_accepted_and_the_block_is_not_turned_with_it() {
+    // the clearance check turned every node of the model to the release angle, the block's too:
+    // at 5° the block's far side seemed to reach past its face
+    let mut cfg = Config::default();
+    cfg.wall.kind = WallKind::Deformable;
+    cfg.initial.angle_deg = 5.0;
+    cfg.time.end = 0.01;
+    let mesh = pendulum_fem::mesh::generate(&cfg).unwrap();
+    let mut sim = pendulum_fem::Simulation::from_config(&cfg, mesh).expect("released away from the wall");
+    sim.step(cfg.time.dt).unwrap();
+    // released towards it, it is refused
+    cfg.initial.angle_deg = -5.0;
+    let mesh = pendulum_fem::mesh::generate(&cfg).unwrap();
+    let msg = pendulum_fem::Simulation::from_config(&cfg, mesh)
+        .err()
+        .expect("inside the wall")
+        .to_string();
+    assert!(msg.contains("wall.x") && msg.contains("initial.angle_deg"), "{msg}");
+}
+
+#[test]
 fn a_snapshot_taken_during_an_impact_continues_bit_for_bit() {
     let cfg = rigid_wall(0.3);
     let mesh = pendulum_fem::mesh::generate(&cfg).unwrap();

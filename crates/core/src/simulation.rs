@@ -75,6 +75,7 @@ pub const HINGE_BOUNDARY: &str = "rotation";
 pub const CONTACT_BOUNDARY: &str = "contact_head";
 
 /// With a wall, the pendulum released at `initial.angle_deg` must lie on the face's free side.
+/// `pendulum` holds the pendulum's nodes only (a deformable wall's block stays where it is).
 fn check_wall_clearance(config: &Config, pendulum: &Mesh) -> Result<(), Error> {
     if config.wall.kind == WallKind::None {
         return Ok(());
@@ -143,6 +144,9 @@ impl Model {
     /// As [`Model::new`], with further bodies after the pendulum (see [`body`]).
     pub fn with_bodies(config: &Config, mesh: Mesh, others: &[BodySpec]) -> Result<Self, Error> {
         config.validate()?;
+        // before the bodies are built: a body's mesh view holds every body's nodes, and the
+        // block's must not be turned with the pendulum
+        check_wall_clearance(config, &mesh)?;
         let pendulum_mesh = mesh;
         let mut others = others.to_vec();
         if config.wall.kind == WallKind::Deformable {
@@ -172,7 +176,6 @@ impl Model {
         if config.torque.profile != ProfileKind::None {
             torque = Some(Torque::from_config(&bodies[0].mesh, HINGE_BOUNDARY, &config.torque)?);
         }
-        check_wall_clearance(config, &bodies[0].mesh)?;
         let wall = match config.wall.kind {
             WallKind::None => None,
             WallKind::Rigid => {
