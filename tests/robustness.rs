@@ -265,15 +265,19 @@ const KNOWN_OPEN: &[(usize, &str)] = &[
     (10, "no wall; a torque spins a 70 g plate to ~1800 rad/s at dt 13 ms: quarter-turn sub-steps, at t = 1.05 s after 120 s beside another case"),
 ];
 
-/// Errors that name a cause outside the model, which a case may end with. None so far: every
-/// drawn case must finish.
-fn accepted_error(_message: &str) -> bool {
-    false
+/// Errors that name a cause outside the model, which a case may end with: a torque whose
+/// traction on the hinge edge strains a soft hub past a quarter of its modulus
+/// (`Torque::check_hub_stress`; soft Neo-Hookean plates driven by up to 1 N·m through a rod
+/// 8 mm wide and 5 mm thick). Every other case must finish.
+fn accepted_error(message: &str) -> bool {
+    message.contains("drives the hinge edge with a traction stress") && message.contains("outside the model")
 }
 
 /// What one case measured.
 #[derive(Default)]
 struct Measured {
+    /// The accepted error of a case outside the model ([`accepted_error`]).
+    outside: Option<String>,
     /// Newton iterations of every output step.
     iterations: Vec<usize>,
     cutbacks: usize,
@@ -322,7 +326,12 @@ fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured,
             ))
         }
         Ok(s) => s,
-        Err(e) if accepted_error(&e.to_string()) => return Ok(Measured::default()),
+        Err(e) if accepted_error(&e.to_string()) => {
+            return Ok(Measured {
+                outside: Some(e.to_string()),
+                ..Default::default()
+            })
+        }
         Err(e) => return Err(format!("the run failed: {e}")),
     };
     let seconds = started.elapsed().as_secs_f64();
@@ -370,6 +379,7 @@ fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured,
         cutbacks: summary.cutbacks,
         steps: summary.steps,
         seconds,
+        outside: None,
     })
 }
 
@@ -426,7 +436,7 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
     let mut histogram = std::collections::BTreeMap::new();
     let mut cutback_cases = std::collections::BTreeMap::new();
     let (mut steps, mut slowest) = (0, (0.0f64, 0));
-    for (index, m) in &measured {
+    for (index, m) in measured.iter().filter(|(_, m)| m.outside.is_none()) {
         for &i in &m.iterations {
             *histogram.entry(i).or_insert(0usize) += 1;
         }
@@ -436,12 +446,19 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
             slowest = (m.seconds, *index);
         }
     }
+    let outside: Vec<usize> = measured
+        .iter()
+        .filter(|(_, m)| m.outside.is_some())
+        .map(|(i, _)| *i)
+        .collect();
     let mut report = format!(
-        "{} cases (seed {seed}, from {first}) in {:.1} s: {} passed, {} failed; {steps} steps; slowest passing case {} ({:.1} s)\n\
+        "{} cases (seed {seed}, from {first}) in {:.1} s: {} passed, {} refused as outside the model {outside:?}, \
+         {} failed; {steps} steps; slowest passing case {} ({:.1} s)\n\
          Newton iterations per output step: {histogram:?}\ncut-backs per case: {cutback_cases:?}\n",
         cases,
         started.elapsed().as_secs_f64(),
-        measured.len(),
+        measured.len() - outside.len(),
+        outside.len(),
         cases - measured.len(),
         slowest.1,
         slowest.0

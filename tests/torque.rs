@@ -612,3 +612,70 @@ fn step_and_table_profiles_drive_a_run_from_the_command_line() {
         assert!((r[cm] - 20.0 * r[ct]).abs() < 1e-12, "t = {}: {}", r[ct], r[cm]);
     }
 }
+
+#[test]
+fn a_torque_straining_a_soft_hub_past_a_quarter_of_its_modulus_is_refused_through_the_cli() {
+    // the default geometry: rod half-width w = 0.015 m, thickness t = 0.01 m, so the hinge edge's
+    // traction stress at its ends is σ = 3 |M| / (2 t w²) = 6667 Pa per N·m (Gauss-exact weights
+    // on the straight edge: ∫ X_x² ds = 2 w³ / 3)
+    let mut cfg = Config::default();
+    cfg.torque.profile = Kind::Constant;
+    cfg.torque.amplitude = -0.5;
+    let mesh = mesh::generate(&cfg).unwrap();
+    let torque = Torque::from_config(&mesh, HINGE_BOUNDARY, &cfg.torque).unwrap();
+    let exact = 3.0 * 0.5 / (2.0 * 0.01 * 0.015f64.powi(2));
+    assert!(
+        (torque.edge_stress(-0.5, 0.01) / exact - 1.0).abs() < 1e-12,
+        "{} vs {exact}",
+        torque.edge_stress(-0.5, 0.01)
+    );
+    let dir = scratch("hub");
+    let run = |name: &str, lines: &str| {
+        let file = dir.join(format!("{name}.toml"));
+        std::fs::write(
+            &file,
+            format!(
+                "[material]\nyoungs_modulus = 1e6\n[time]\nend = 0.02\n[output]\nplots = false\nanimation = false\n\
+                 paraview = false\nviewer = false\n{lines}"
+            ),
+        )
+        .unwrap();
+        std::process::Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
+            .args(["run", "--config"])
+            .arg(&file)
+            .arg("--out")
+            .arg(dir.join(name))
+            .output()
+            .unwrap()
+    };
+    // 0.5 N·m on E = 1e6 Pa: σ = 3.3e5 Pa, a third of the modulus
+    let out = run("strong", "[torque]\nprofile = \"constant\"\namplitude = -0.5\n");
+    let msg = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(!out.status.success(), "{msg}");
+    for name in [
+        "torque.amplitude",
+        "material.youngs_modulus",
+        "geometry.rod_half_width",
+        "outside the model",
+        "0.333",
+    ] {
+        assert!(msg.contains(name), "{name} missing from: {msg}");
+    }
+    assert!(
+        !dir.join("strong").join("results.csv").exists(),
+        "no results for a refused case"
+    );
+    // a table's largest sample counts, wherever it lies
+    let table = dir.join("torque.csv");
+    std::fs::write(&table, "time_s,torque_Nm\n0,0\n5,0.1\n6,0.5\n").unwrap();
+    let out = run(
+        "table",
+        &format!("[torque]\nprofile = \"table\"\nfile = {:?}\n", table.to_str().unwrap()),
+    );
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("outside the model"));
+    // 0.3 N·m: σ = 2.0e5 Pa, a fifth of the modulus, runs
+    let out = run("within", "[torque]\nprofile = \"constant\"\namplitude = -0.3\n");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(dir.join("within").join("results.csv").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}

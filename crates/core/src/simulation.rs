@@ -174,7 +174,9 @@ impl Model {
         let extra_terms: Vec<Box<dyn Term>> = Vec::new();
         let mut torque = None;
         if config.torque.profile != ProfileKind::None {
-            torque = Some(Torque::from_config(&bodies[0].mesh, HINGE_BOUNDARY, &config.torque)?);
+            let t = Torque::from_config(&bodies[0].mesh, HINGE_BOUNDARY, &config.torque)?;
+            t.check_hub_stress(config.geometry.thickness, config.material.youngs_modulus)?;
+            torque = Some(t);
         }
         let wall = match config.wall.kind {
             WallKind::None => None,

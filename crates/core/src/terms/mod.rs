@@ -41,7 +41,7 @@ pub use contact::RigidWall;
 pub use elastic::Elastic;
 pub use gravity::Gravity;
 pub use inertia::Inertia;
-pub use torque::{Torque, TorqueMode, TorqueTable};
+pub use torque::{Torque, TorqueMode, TorqueTable, HUB_STRESS_LIMIT};
 
 /// One additive contribution to the potential.
 pub trait Term: Send + Sync {
