@@ -374,3 +374,39 @@ fn the_deformable_faces_hessian_pattern_holds_every_entry_it_writes_and_a_contac
         "{message}"
     );
 }
+
+#[test]
+fn past_the_end_of_the_face_the_reported_penetration_fades_with_the_energy() {
+    let (mesh, term, first) = deformable();
+    let cfg = Config::default();
+    let top = cfg.wall.center_y + 0.5 * cfg.wall.height;
+    let leftmost = mesh
+        .nodes_on("contact_head")
+        .into_iter()
+        .min_by(|&a, &b| mesh.nodes[a][0].total_cmp(&mesh.nodes[b][0]))
+        .unwrap();
+    // the head pressed 30 µm into the face, its leftmost node lifted to `dy` past the top end
+    let depth = |dy: f64| {
+        let u = moved(&mesh, first, -3e-5, top - mesh.nodes[leftmost][1] + dy, 1.0);
+        -term.smallest_gap(&u)
+    };
+    let on_face = depth(-3e-3);
+    let lifted: Vec<f64> = (0..=30).map(|i| depth(1e-4 * i as f64)).collect();
+    println!("on the face {on_face:e} m; lifted by 0.1 mm steps: {lifted:?}");
+    assert!((2.5e-5..3.5e-5).contains(&on_face), "{on_face}");
+    // a point in the taper (one face element, 1.5 mm, past the end) penetrates by g √s(η), the
+    // depth that stores its energy on the face: the reported penetration falls as the contact
+    // leaves the face. Measured against the face's line continued past the block, where there
+    // is no block, it grew instead (3.13e-5 to 3.17e-5 m over the first 0.6 mm)
+    assert!(
+        lifted[5..].windows(2).all(|w| w[1] <= w[0]),
+        "it falls once the contact leaves the face: {lifted:?}"
+    );
+    assert!(
+        lifted[25] < 0.2 * on_face,
+        "2.5 mm past the end: {:e} of {on_face:e}",
+        lifted[25]
+    );
+    // none once every point is past the taper
+    assert!(depth(5e-3) <= 0.0, "{}", depth(5e-3));
+}

@@ -268,9 +268,13 @@ const KNOWN_OPEN: &[(usize, &str)] = &[
 /// Errors that name a cause outside the model, which a case may end with: a torque whose
 /// traction on the hinge edge strains a soft hub past a quarter of its modulus
 /// (`Torque::check_hub_stress`; soft Neo-Hookean plates driven by up to 1 N·m through a rod
-/// 8 mm wide and 5 mm thick). Every other case must finish.
+/// 8 mm wide and 5 mm thick), and a head that swings over the pivot and comes round the
+/// deformable wall's face onto the block (`RigidWall::behind_face`: the face is its only contact
+/// surface). Every other case must finish.
 fn accepted_error(message: &str) -> bool {
-    message.contains("drives the hinge edge with a traction stress") && message.contains("outside the model")
+    message.contains("outside the model")
+        && (message.contains("drives the hinge edge with a traction stress")
+            || message.contains("come round the face's end"))
 }
 
 /// What one case measured.

@@ -129,6 +129,16 @@ pub enum Error {
         /// Which head edge and face segment, where.
         message: String,
     },
+    /// A step failed where the case leaves the model: the message names the cause (for example
+    /// the head coming round the deformable wall's face, [`crate::terms::RigidWall::behind_face`]).
+    OutsideModel {
+        /// Step number (1-based: the step that would reach `t + dt`).
+        step: usize,
+        /// Time at the start of the step \[s\].
+        t: f64,
+        /// The cause and what to change.
+        message: String,
+    },
     /// The run was stopped because it diverged (the energy watchdog of `pendulum-fem run`).
     Divergence {
         /// Step at which it was detected.
@@ -171,6 +181,9 @@ impl fmt::Display for Error {
             Self::LinearSolver(m) => write!(f, "linear solver: {m}"),
             Self::ContactOutsidePattern { step, t, message } => {
                 write!(f, "time step {step} refused at t = {t:.6} s: {message}")
+            }
+            Self::OutsideModel { step, t, message } => {
+                write!(f, "time step {step} from t = {t:.6} s is outside the model: {message}")
             }
             Self::Divergence { step, t, message } => write!(f, "run stopped at step {step}, t = {t} s: {message}"),
         }

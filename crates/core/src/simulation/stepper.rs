@@ -82,9 +82,27 @@ impl Simulation {
             }
             Err(e) => {
                 self.roll_back(&before);
-                Err(e)
+                Err(self.outside_model(e, dt))
             }
         }
+    }
+
+    /// A failed step's error, or the cause outside the model that explains it: the head's rigid
+    /// flight over the step (from the rolled-back start, at the best-fit rates, in eighths) came
+    /// round the deformable wall's face ([`crate::terms::RigidWall::behind_face`]).
+    fn outside_model(&mut self, e: Error, dt: f64) -> Error {
+        let Error::TimeStep { step, t, .. } = e else {
+            return e;
+        };
+        if self.model.wall.is_none() {
+            return e;
+        }
+        let (omega, alpha) = self.angular_rates();
+        let wall = self.model.wall.as_ref().expect("checked");
+        (1..=8)
+            .map(|k| dt * k as f64 / 8.0)
+            .find_map(|h| wall.behind_face(&self.state.u, omega * h + 0.5 * alpha * h * h))
+            .map_or(e, |message| Error::OutsideModel { step, t, message })
     }
 
     /// Holds the actuator torque at `value` \[N m\] from now on, replacing the `[torque]` profile

@@ -46,6 +46,14 @@
 //! their own segments: the discrete-gradient identity holds to rounding whatever segments or
 //! ends the point crosses within the step.
 //!
+//! **Behind the block.** A point deeper than the pattern's margin (`reach`, below) behind the
+//! face's line has no energy (its `η` is set beyond the taper): it is behind the block, where the
+//! face is no contact surface. Without that cut, a head that swung over the pivot and down past
+//! the block's far side, 0.1 m behind the face and nowhere near the block, bounced off the
+//! face's line continued wherever its arc passed within one taper length of the face's ends. A
+//! head that comes round the face's end onto the block itself is outside the model
+//! ([`RigidWall::behind_face`]).
+//!
 //! **Its Hessian pattern.** A head point can only touch the face at a height fixed by its distance
 //! `r` from the pivot: turning rigidly about the pivot, it meets the plane `x = x_w` at
 //! `y = ±√(r² − x_w²)`. The pattern couples every head edge with the face segments within that band
@@ -349,6 +357,12 @@ impl RigidWall {
             }
             l.deta[9] = -1.0 / face.taper[1];
         }
+        // deeper than the margin behind the face's line the point is behind the block, where
+        // the face is no contact surface: no energy (η beyond the taper, fixed)
+        if l.g < -face.reach {
+            l.eta = 2.0;
+            l.deta = [0.0; 10];
+        }
         l
     }
 
@@ -367,9 +381,23 @@ impl RigidWall {
         0.5 * self.stiffness * pen * pen
     }
 
-    /// The smallest gap over the contact points \[m\] (negative: the largest penetration).
+    /// The smallest gap over the contact points \[m\] (negative: the largest penetration). A
+    /// point past the deformable face's end, in the taper (`0 < s(η) < 1`, the block's rounded
+    /// corner), penetrates by `g √s(η)`: the penetration that stores its energy on the face. Its
+    /// gap to the face's line continued beyond the block is no depth inside the block (there is
+    /// no block there), and the energy does not bound it. The sign is the gap's.
     pub fn smallest_gap(&self, u: &[f64]) -> f64 {
-        self.points.iter().map(|p| self.gap(p, u)).fold(f64::INFINITY, f64::min)
+        self.points
+            .iter()
+            .map(|p| {
+                let l = self.local(p, u);
+                match taper(l.eta) {
+                    s if s <= 0.0 => f64::INFINITY,
+                    s if l.g < 0.0 => l.g * s.sqrt(),
+                    _ => l.g,
+                }
+            })
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// The secant of each point's energy density along its gap (see the module doc), `ψ'(g)` when
@@ -507,6 +535,41 @@ impl RigidWall {
                 p.weight * self.stiffness * (-l.g).max(0.0) * taper(l.eta)
             })
             .sum()
+    }
+
+    /// With the deformable face: a point of the head's arc that, with the head turned rigidly by
+    /// `turn` \[rad\] about the pivot from `u` (the block stays), lies where the contact energy acts
+    /// deeper than half the pattern's margin behind the face's line. Only the face is a contact
+    /// surface, and no blow presses a point that deep; the point came round the face's end (a
+    /// head that swung over the pivot comes down onto the block's top), where the face's energy
+    /// sets in at that depth and its stiffness stops Newton. Described for an error message.
+    pub fn behind_face(&self, u: &[f64], turn: f64) -> Option<String> {
+        let face = self.face.as_ref()?;
+        let (s, c) = turn.sin_cos();
+        let mut turned = u.to_vec();
+        for p in &self.points {
+            for &n in &p.nodes {
+                let [x, y] = self.reference[n];
+                let (cx, cy) = (x + u[2 * n], y + u[2 * n + 1]);
+                turned[2 * n] = c * cx - s * cy - x;
+                turned[2 * n + 1] = s * cx + c * cy - y;
+            }
+        }
+        self.points.iter().find_map(|p| {
+            let l = self.local(p, &turned);
+            (taper(l.eta) > 0.0 && l.g < -0.5 * face.reach).then(|| {
+                let y: f64 = (0..3)
+                    .map(|a| p.basis[a] * (self.reference[p.nodes[a]][1] + turned[2 * p.nodes[a] + 1]))
+                    .sum();
+                format!(
+                    "turning on by {turn:.4} rad, the head's arc reaches {:.4} m behind the deformable wall's face at \
+                     y = {y:.4} m, more than half the face's margin of {} m: it has come round the face's end (the \
+                     face is the wall's only contact surface). Keep the head from going over the pivot (less initial speed or \
+                     torque), or use wall.kind = \"rigid\", a half-plane it cannot pass",
+                    -l.g, face.reach
+                )
+            })
+        })
     }
 
     /// A penetrating point whose head edge and face segment the Hessian pattern does not couple
