@@ -304,6 +304,18 @@ impl RigidWall {
     /// The gap of point `p` at `u` and its gradient; with the face on the segment at the point's
     /// height, with its `η` (see the module doc).
     fn local(&self, p: &ContactPoint, u: &[f64]) -> Local {
+        let mut l = self.local_behind(p, u);
+        // deeper than the margin behind the face's line the point is behind the block, where
+        // the face is no contact surface: no energy (η beyond the taper, fixed)
+        if self.face.as_ref().is_some_and(|face| l.g < -face.reach) {
+            l.eta = 2.0;
+            l.deta = [0.0; 10];
+        }
+        l
+    }
+
+    /// As [`RigidWall::local`], with the `η` of a point however far behind the face.
+    fn local_behind(&self, p: &ContactPoint, u: &[f64]) -> Local {
         let ux: f64 = (0..3).map(|a| p.basis[a] * u[2 * p.nodes[a]]).sum();
         let mut l = Local {
             g: 0.0,
@@ -356,12 +368,6 @@ impl RigidWall {
                 l.deta[3 + k] = p.basis[k] / face.taper[1];
             }
             l.deta[9] = -1.0 / face.taper[1];
-        }
-        // deeper than the margin behind the face's line the point is behind the block, where
-        // the face is no contact surface: no energy (η beyond the taper, fixed)
-        if l.g < -face.reach {
-            l.eta = 2.0;
-            l.deta = [0.0; 10];
         }
         l
     }
@@ -537,12 +543,15 @@ impl RigidWall {
             .sum()
     }
 
-    /// With the deformable face: a point of the head's arc that, with the head turned rigidly by
-    /// `turn` \[rad\] about the pivot from `u` (the block stays), lies where the contact energy acts
-    /// deeper than half the pattern's margin behind the face's line. Only the face is a contact
-    /// surface, and no blow presses a point that deep; the point came round the face's end (a
-    /// head that swung over the pivot comes down onto the block's top), where the face's energy
-    /// sets in at that depth and its stiffness stops Newton. Described for an error message.
+    /// With the deformable face: a point of the head's arc that lies behind the face's line out
+    /// of the face's reach at `u` (beyond its end, `η ≥ 1`, or deeper than the pattern's margin)
+    /// and, with the head turned rigidly by `turn` \[rad\] about the pivot (the block stays),
+    /// arrives where the face's energy acts deeper than a tenth of the margin behind it. Only the
+    /// face is a contact surface: a point that enters its reach from behind, that deep, came round
+    /// the face's end (a head that swung over the pivot comes down onto the block's top or
+    /// back), where the face's energy sets in at that depth and its stiffness stops Newton. (A
+    /// point pressed into the face that slides past its end and back is a few hundred µm deep.)
+    /// Described for an error message.
     pub fn behind_face(&self, u: &[f64], turn: f64) -> Option<String> {
         let face = self.face.as_ref()?;
         let (s, c) = turn.sin_cos();
@@ -556,17 +565,20 @@ impl RigidWall {
             }
         }
         self.points.iter().find_map(|p| {
-            let l = self.local(p, &turned);
-            (taper(l.eta) > 0.0 && l.g < -0.5 * face.reach).then(|| {
+            let l0 = self.local_behind(p, u);
+            let l = self.local_behind(p, &turned);
+            let behind = l0.g < 0.0 && (l0.eta >= 1.0 || l0.g < -face.reach);
+            let arrives = behind && l.eta < 1.0 && (-face.reach..-0.1 * face.reach).contains(&l.g);
+            arrives.then(|| {
                 let y: f64 = (0..3)
                     .map(|a| p.basis[a] * (self.reference[p.nodes[a]][1] + turned[2 * p.nodes[a] + 1]))
                     .sum();
                 format!(
-                    "turning on by {turn:.4} rad, the head's arc reaches {:.4} m behind the deformable wall's face at \
-                     y = {y:.4} m, more than half the face's margin of {} m: it has come round the face's end (the \
-                     face is the wall's only contact surface). Keep the head from going over the pivot (less initial speed or \
+                    "turning on by {turn:.4} rad, the head's arc arrives from beyond the deformable wall's face end at \
+                     y = {y:.4} m, {:.4} m behind its line: it has come round the face's end (the face is the \
+                     wall's only contact surface). Keep the head from going over the pivot (less initial speed or \
                      torque), or use wall.kind = \"rigid\", a half-plane it cannot pass",
-                    -l.g, face.reach
+                    -l.g
                 )
             })
         })
