@@ -239,12 +239,15 @@ fn draw(seed: u64, index: usize) -> Case {
 /// not kept: a second guess, the previous step's configuration turned by two steps (its first
 /// residual ten times smaller, the iterations unchanged); the tangent at the mid-step
 /// displacement (more iterations: the rotation's chord compresses that configuration); Anderson
-/// mixing over the iterates of one factorisation (5–9 % fewer iterations). A long campaign
+/// mixing over the iterates of one factorisation (5–9 % fewer iterations). In the last
+/// full-limit run of the CI range (`ROBUST_CASES=12`, two cases at a time) 11 of the 12 passed
+/// in 216.5 s, only case 0 ran past 120 s; the cases that pass stay on the list because beside a
+/// second case they take 80–100 s, too close to the limit for CI's load. A long campaign
 /// (`ROBUST_CASES=N`, any seed) asserts every case.
 const KNOWN_OPEN: &[(usize, &str)] = &[
     (
         0,
-        "SVK E = 2e9 Pa against a 33 MPa deformable block, dt 1.1 ms: at t = 1.02 s of 1.99 after 120 s, 6 cut-backs",
+        "SVK E = 2e9 Pa against a 33 MPa deformable block, dt 1.1 ms, 16 impacts: passes alone in 101.7 s (1780 steps, 10,308 Newton iterations, energy balance 9.6e-11); beside a second case it was at t = 1.02 s after 120 s",
     ),
     (
         2,
@@ -260,9 +263,9 @@ const KNOWN_OPEN: &[(usize, &str)] = &[
     ),
     (
         9,
-        "NH E = 1.2e8 Pa, rigid wall k = 1.5e11 N/m³, dt 2.8 ms, 9638 unknowns: at t = 1.23 s of 1.78 after 120 s, 0 cut-backs",
+        "NH E = 1.2e8 Pa, rigid wall k = 1.5e11 N/m³, dt 2.8 ms, 9638 unknowns: passed with 120 s in the last full-limit run (80.4 s, the slowest; at t = 1.23 s of 1.78 after 120 s in the run before)",
     ),
-    (10, "no wall; a torque spins a 70 g plate to ~1800 rad/s at dt 13 ms: quarter-turn sub-steps, at t = 1.05 s after 120 s beside another case"),
+    (10, "no wall; a torque spins a 70 g plate to ~1800 rad/s at dt 13 ms: quarter-turn sub-steps; passed with 120 s in the last full-limit run (at t = 1.05 s after 120 s in the run before)"),
 ];
 
 /// Errors that name a cause outside the model, which a case may end with: a torque whose
