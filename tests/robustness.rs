@@ -476,6 +476,13 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
         .unwrap()
         .into_iter()
         .partition(|(i, _, _)| known_open(*i));
+    for (i, m) in &measured {
+        if let Some(why) = &m.outside {
+            // the cause, up to the advice that follows it
+            let cause = why.split(". ").next().unwrap_or(why);
+            report.push_str(&format!("case {i} outside the model: {cause}\n"));
+        }
+    }
     for (i, why, _) in &known {
         report.push_str(&format!("known open case {i} (issue 17): {why}\n"));
     }
