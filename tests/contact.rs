@@ -232,17 +232,30 @@ fn moved(mesh: &Mesh, first: usize, dx: f64, dy: f64, seed: f64) -> Vec<f64> {
     u
 }
 
+/// The tutorial face's top end `y` \[m\] and the head's leftmost arc node (its first contact).
+fn face_top_and_leftmost(mesh: &Mesh) -> (f64, usize) {
+    let cfg = Config::default();
+    let leftmost = mesh
+        .nodes_on("contact_head")
+        .into_iter()
+        .min_by(|&a, &b| mesh.nodes[a][0].total_cmp(&mesh.nodes[b][0]))
+        .unwrap();
+    (cfg.wall.center_y + 0.5 * cfg.wall.height, leftmost)
+}
+
+/// The head pressed 30 µm into the face with its leftmost arc node `dy` past the face's top end
+/// (the block bent by a wiggle of 1 µm).
+fn lifted_past_the_top(mesh: &Mesh, first: usize, dy: f64) -> Vec<f64> {
+    let (top, leftmost) = face_top_and_leftmost(mesh);
+    moved(mesh, first, -3e-5, top - mesh.nodes[leftmost][1] + dy, 1.0)
+}
+
 #[test]
 fn a_point_that_crosses_the_end_of_the_face_keeps_the_discrete_work_equal_to_the_change_of_energy() {
     let (mesh, term, first) = deformable();
-    let cfg = Config::default();
-    let top = cfg.wall.center_y + 0.5 * cfg.wall.height;
     // the head's leftmost node (its first contact) lifted from 0.5 mm below the face's top end to
     // 1 mm above it (the taper is one face element, 1.5 mm), pressed 30 µm into the face
-    let leftmost = (0..first)
-        .filter(|&n| mesh.nodes_on("contact_head").contains(&n))
-        .min_by(|&a, &b| mesh.nodes[a][0].total_cmp(&mesh.nodes[b][0]))
-        .unwrap();
+    let (top, leftmost) = face_top_and_leftmost(&mesh);
     let y = mesh.nodes[leftmost][1];
     for (k, (y0, y1)) in [
         (top - 5e-4, top + 1e-3),
@@ -287,15 +300,8 @@ fn a_point_that_crosses_the_end_of_the_face_keeps_the_discrete_work_equal_to_the
 #[test]
 fn the_energy_fades_out_smoothly_past_the_end_of_the_face() {
     let (mesh, term, first) = deformable();
-    let cfg = Config::default();
-    let top = cfg.wall.center_y + 0.5 * cfg.wall.height;
-    let leftmost = mesh
-        .nodes_on("contact_head")
-        .into_iter()
-        .min_by(|&a, &b| mesh.nodes[a][0].total_cmp(&mesh.nodes[b][0]))
-        .unwrap();
     let e = |dy: f64| {
-        let u = moved(&mesh, first, -3e-5, top - mesh.nodes[leftmost][1] + dy, 1.0);
+        let u = lifted_past_the_top(&mesh, first, dy);
         term.energy(&u, &StepContext::at(&u, 0.0, 0.0, None))
     };
     // across the end in steps of 10 µm: no jump (a cut at the end would drop a point's whole
@@ -378,18 +384,8 @@ fn the_deformable_faces_hessian_pattern_holds_every_entry_it_writes_and_a_contac
 #[test]
 fn past_the_end_of_the_face_the_reported_penetration_fades_with_the_energy() {
     let (mesh, term, first) = deformable();
-    let cfg = Config::default();
-    let top = cfg.wall.center_y + 0.5 * cfg.wall.height;
-    let leftmost = mesh
-        .nodes_on("contact_head")
-        .into_iter()
-        .min_by(|&a, &b| mesh.nodes[a][0].total_cmp(&mesh.nodes[b][0]))
-        .unwrap();
     // the head pressed 30 µm into the face, its leftmost node lifted to `dy` past the top end
-    let depth = |dy: f64| {
-        let u = moved(&mesh, first, -3e-5, top - mesh.nodes[leftmost][1] + dy, 1.0);
-        -term.smallest_gap(&u)
-    };
+    let depth = |dy: f64| -term.smallest_gap(&lifted_past_the_top(&mesh, first, dy));
     let on_face = depth(-3e-3);
     let lifted: Vec<f64> = (0..=30).map(|i| depth(1e-4 * i as f64)).collect();
     println!("on the face {on_face:e} m; lifted by 0.1 mm steps: {lifted:?}");

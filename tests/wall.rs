@@ -216,16 +216,23 @@ fn the_tutorials_penalty_scheme_gains_energy_where_the_energy_consistent_contact
     assert!(change.abs() > 0.1, "changed by {change}");
 }
 
+/// Builds the simulation of `cfg`: `Err` with the message of its refusal.
+fn build(cfg: &Config) -> Result<Simulation, String> {
+    let mesh = pendulum_fem::mesh::generate(cfg).unwrap();
+    Simulation::from_config(cfg, mesh).map_err(|e| e.to_string())
+}
+
+/// A configuration whose pendulum starts inside the wall is refused naming both keys.
+fn assert_refused_inside_the_wall(cfg: &Config) {
+    let msg = build(cfg).err().expect("the head starts inside the wall");
+    assert!(msg.contains("wall.x") && msg.contains("initial.angle_deg"), "{msg}");
+}
+
 #[test]
 fn a_wall_that_overlaps_the_released_pendulum_is_an_error_naming_the_keys() {
     let mut cfg = rigid_wall(0.1);
     cfg.initial.angle_deg = -5.0;
-    let mesh = pendulum_fem::mesh::generate(&cfg).unwrap();
-    let msg = pendulum_fem::Simulation::from_config(&cfg, mesh)
-        .err()
-        .expect("the head starts inside the wall")
-        .to_string();
-    assert!(msg.contains("wall.x") && msg.contains("initial.angle_deg"), "{msg}");
+    assert_refused_inside_the_wall(&cfg);
     // the energy-consistent contact needs the energy-momentum scheme
     let mut cfg = rigid_wall(0.1);
     cfg.time.scheme = Scheme::Trapezoidal;
@@ -241,17 +248,11 @@ fn a_pendulum_released_away_from_a_deformable_wall_is_accepted_and_the_block_is_
     cfg.wall.kind = WallKind::Deformable;
     cfg.initial.angle_deg = 5.0;
     cfg.time.end = 0.01;
-    let mesh = pendulum_fem::mesh::generate(&cfg).unwrap();
-    let mut sim = pendulum_fem::Simulation::from_config(&cfg, mesh).expect("released away from the wall");
+    let mut sim = build(&cfg).expect("released away from the wall");
     sim.step(cfg.time.dt).unwrap();
     // released towards it, it is refused
     cfg.initial.angle_deg = -5.0;
-    let mesh = pendulum_fem::mesh::generate(&cfg).unwrap();
-    let msg = pendulum_fem::Simulation::from_config(&cfg, mesh)
-        .err()
-        .expect("inside the wall")
-        .to_string();
-    assert!(msg.contains("wall.x") && msg.contains("initial.angle_deg"), "{msg}");
+    assert_refused_inside_the_wall(&cfg);
 }
 
 #[test]

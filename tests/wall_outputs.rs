@@ -19,6 +19,17 @@ use pendulum_fem::io::plot::{History, IMPACT_RGB};
 use pendulum_fem::Config;
 use plate::temp_dir;
 
+/// The run driver's options for `config` into the folder `dir`, quiet.
+fn options(config: Config, dir: &Path) -> RunOptions {
+    RunOptions {
+        config,
+        out: Some(dir.to_path_buf()),
+        force: true,
+        quiet: true,
+        ..Default::default()
+    }
+}
+
 /// A run of `end` seconds into a fresh folder, with or without the rigid wall, and its summary.
 fn run_case(name: &str, wall: bool, end: f64) -> (PathBuf, RunSummary) {
     let dir = temp_dir(name);
@@ -27,14 +38,7 @@ fn run_case(name: &str, wall: bool, end: f64) -> (PathBuf, RunSummary) {
         config.wall.kind = WallKind::Rigid;
     }
     config.time.end = end;
-    let opts = RunOptions {
-        config,
-        out: Some(dir.clone()),
-        force: true,
-        quiet: true,
-        ..Default::default()
-    };
-    let summary = run_job(&opts).unwrap();
+    let summary = run_job(&options(config, &dir)).unwrap();
     (dir, summary)
 }
 
@@ -681,14 +685,9 @@ fn a_head_swung_over_the_pivot_passes_behind_the_deformable_block_and_stops_wher
     config.wall.kind = WallKind::Deformable;
     config.initial.angular_velocity = 15.0;
     config.time.end = 0.6;
-    let opts = RunOptions {
-        config,
-        out: Some(dir.clone()),
-        force: true,
-        quiet: true,
-        ..Default::default()
-    };
-    let message = run_job(&opts).expect_err("it comes round onto the block").to_string();
+    let message = run_job(&options(config, &dir))
+        .expect_err("it comes round onto the block")
+        .to_string();
     assert!(
         message.contains("outside the model") && message.contains("come round the face's end"),
         "{message}"

@@ -27,6 +27,26 @@ use crate::quadrature::TriangleRule;
 use crate::terms::elastic::deformation_gradient;
 use crate::{Error, Mesh};
 
+/// Writes into `out` the displacements of `nodes` turned rigidly by `angle` \[rad\] about the
+/// pivot (the origin) from `u`: `x' = R(angle) (X + u)`, `u' = x' − X`, with `X` from `reference`.
+/// Each node's value is computed from `u` alone, so a node listed twice is turned once; the other
+/// entries of `out` are left as they are.
+pub fn turn_about_pivot(
+    reference: &[[f64; 2]],
+    u: &[f64],
+    out: &mut [f64],
+    nodes: impl IntoIterator<Item = usize>,
+    angle: f64,
+) {
+    let (s, c) = angle.sin_cos();
+    for n in nodes {
+        let p = reference[n];
+        let x = [p[0] + u[2 * n], p[1] + u[2 * n + 1]];
+        out[2 * n] = c * x[0] - s * x[1] - p[0];
+        out[2 * n + 1] = s * x[0] + c * x[1] - p[1];
+    }
+}
+
 /// The linear functionals of the proxy angle.
 #[derive(Clone, Debug)]
 pub struct RigidProjection {

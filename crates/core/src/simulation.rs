@@ -1055,22 +1055,11 @@ impl Simulation {
             // the midpoint rule turns a rigid body along the chord: tan(Δφ/2) = Δt ω̄ / 2
             phi = 2.0 * (0.5 * phi).atan();
         }
-        let (s, c) = phi.sin_cos();
         let u = &self.state.u;
         let mut guess = u.clone();
         // the pendulum turns; the other bodies start from where they are
-        for (n, p) in self
-            .model
-            .mesh
-            .nodes
-            .iter()
-            .enumerate()
-            .take(self.model.bodies[0].nodes.end)
-        {
-            let x = [p[0] + u[2 * n], p[1] + u[2 * n + 1]];
-            guess[2 * n] = c * x[0] - s * x[1] - p[0];
-            guess[2 * n + 1] = s * x[0] + c * x[1] - p[1];
-        }
+        let pendulum = 0..self.model.bodies[0].nodes.end;
+        crate::post::turn_about_pivot(&self.model.mesh.nodes, u, &mut guess, pendulum, phi);
         guess
     }
 

@@ -94,11 +94,10 @@ impl Simulation {
         let Error::TimeStep { step, t, .. } = e else {
             return e;
         };
-        if self.model.wall.is_none() {
-            return e;
-        }
         let (omega, alpha) = self.angular_rates();
-        let wall = self.model.wall.as_ref().expect("checked");
+        let Some(wall) = &self.model.wall else {
+            return e;
+        };
         (1..=8)
             .map(|k| dt * k as f64 / 8.0)
             .find_map(|h| wall.behind_face(&self.state.u, omega * h + 0.5 * alpha * h * h))

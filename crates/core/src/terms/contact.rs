@@ -554,16 +554,9 @@ impl RigidWall {
     /// Described for an error message.
     pub fn behind_face(&self, u: &[f64], turn: f64) -> Option<String> {
         let face = self.face.as_ref()?;
-        let (s, c) = turn.sin_cos();
         let mut turned = u.to_vec();
-        for p in &self.points {
-            for &n in &p.nodes {
-                let [x, y] = self.reference[n];
-                let (cx, cy) = (x + u[2 * n], y + u[2 * n + 1]);
-                turned[2 * n] = c * cx - s * cy - x;
-                turned[2 * n + 1] = s * cx + c * cy - y;
-            }
-        }
+        let arc = self.points.iter().flat_map(|p| p.nodes);
+        crate::post::turn_about_pivot(&self.reference, u, &mut turned, arc, turn);
         self.points.iter().find_map(|p| {
             let l0 = self.local_behind(p, u);
             let l = self.local_behind(p, &turned);
