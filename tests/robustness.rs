@@ -269,7 +269,7 @@ const KNOWN_OPEN: &[(usize, &str)] = &[
 ];
 
 /// Errors that name a cause outside the model, which a case may end with: a torque whose
-/// traction on the hinge edge strains a soft hub past a quarter of its modulus
+/// traction on the hinge edge strains a soft hub past a fifth of its modulus
 /// (`Torque::check_hub_stress`; soft Neo-Hookean plates driven by up to 1 N·m through a rod
 /// 8 mm wide and 5 mm thick), and a head that swings over the pivot and comes round the
 /// deformable wall's face onto the block (`RigidWall::behind_face`: the face is its only contact
