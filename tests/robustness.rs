@@ -31,8 +31,9 @@
 //! material (which lowers the penetration, never raises the energy). A case outside the model
 //! must stop with the error naming that cause (see [`accepted_error`]).
 //!
-//! `ROBUST_CASES=N` runs N cases (default [`CI_CASES`]), `ROBUST_SEED=S` another seed, and
-//! `ROBUST_FIRST=K` starts at case K. Each failing case is printed as a configuration file that
+//! `ROBUST_CASES=N` runs N cases (default [`CI_CASES`]), `ROBUST_SEED=S` another seed,
+//! `ROBUST_FIRST=K` starts at case K, and `ROBUST_ONLY=5,12,13` runs just those cases of the seed
+//! (as a campaign: every case asserted). Each failing case is printed as a configuration file that
 //! `pendulum-fem run --config FILE` runs. The campaign prints the distribution of Newton
 //! iterations per step and of cut-backs per case.
 
@@ -244,6 +245,20 @@ fn draw(seed: u64, index: usize) -> Case {
 /// in 216.5 s, only case 0 ran past 120 s; the cases that pass stay on the list because beside a
 /// second case they take 80–100 s, too close to the limit for CI's load. A long campaign
 /// (`ROBUST_CASES=N`, any seed) asserts every case.
+///
+/// Beyond the CI range the open cases are soft Neo-Hookean heads (E = 2.5–7.3 MPa) struck
+/// against a wall (seed 18's cases 5, 12, 13; seed 19's case 3). Tried on them and not kept:
+/// - inside an impact, the previous sub-step's displacement increment as the predictor instead of
+///   the rigid turn: seed 18's case 5 then passes alone (77.7 s; with the turn it stalls in its
+///   first 18 ms impact, 11–16 iterations a sub-step and cut-backs), but the CI range took 262.2 s
+///   instead of 216.5 s (11 of 12 either way); the velocity field as predictor (the midpoint
+///   rule's end velocities oscillate) inverted elements at the guess;
+/// - where the Newton matrix is indefinite, the Neo-Hookean tangent clamped to its positive
+///   semi-definite part (`μ I − b ∂²J/∂F²` → `(μ + b) P₋`, `b = μ J^(−k−1)`): case 12 then
+///   fails at t = 0.487 s (20 iterations at 40 µs) instead of 0.42 s (indefinite tangent);
+/// - a crushed hub as the cause outside the model: case 12's hub corner is at 0.58 of its area
+///   when it fails, but the tutorial's plate at E = 1 MPa with 0.3 N·m stepped on reaches 0.56
+///   in its first step and runs, so the corner's area says nothing about the failure.
 const KNOWN_OPEN: &[(usize, &str)] = &[
     (
         0,
@@ -402,12 +417,28 @@ fn env_number(name: &str, default: u64) -> u64 {
 
 #[test]
 fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_bounded_penetration() {
-    let campaign = std::env::var_os("ROBUST_CASES").is_some();
-    let cases = env_number("ROBUST_CASES", CI_CASES as u64) as usize;
+    // `ROBUST_ONLY=5,12` runs those cases of the seed (and counts them as a campaign)
+    let only: Option<Vec<usize>> = std::env::var("ROBUST_ONLY").ok().map(|list| {
+        list.split(',')
+            .map(|i| {
+                i.trim()
+                    .parse()
+                    .unwrap_or_else(|_| panic!("ROBUST_ONLY = {list}: allowed case numbers separated by commas"))
+            })
+            .collect()
+    });
+    let campaign = std::env::var_os("ROBUST_CASES").is_some() || only.is_some();
+    let cases = only
+        .as_ref()
+        .map_or_else(|| env_number("ROBUST_CASES", CI_CASES as u64) as usize, Vec::len);
     let seed = env_number("ROBUST_SEED", 17);
     // the known open cases of the CI range: run briefly and reported, not asserted
     let known_open = |i: usize| !campaign && seed == 17 && KNOWN_OPEN.iter().any(|(k, _)| *k == i);
-    let first = env_number("ROBUST_FIRST", 0) as usize;
+    let first = if only.is_some() {
+        0
+    } else {
+        env_number("ROBUST_FIRST", 0) as usize
+    };
     let root = scratch();
     let next = AtomicUsize::new(first);
     let failures = Mutex::new(Vec::new());
@@ -416,10 +447,11 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
     std::thread::scope(|s| {
         for _ in 0..2 {
             s.spawn(|| loop {
-                let index = next.fetch_add(1, Ordering::SeqCst);
-                if index >= first + cases {
+                let slot = next.fetch_add(1, Ordering::SeqCst);
+                if slot >= first + cases {
                     break;
                 }
+                let index = only.as_ref().map_or(slot, |list| list[slot - first]);
                 let case = draw(seed, index);
                 let limit = if known_open(index) {
                     KNOWN_OPEN_SECONDS
@@ -458,8 +490,12 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
         .filter(|(_, m)| m.outside.is_some())
         .map(|(i, _)| *i)
         .collect();
+    let which = match &only {
+        Some(list) => format!("{list:?}"),
+        None => format!("from {first}"),
+    };
     let mut report = format!(
-        "{} cases (seed {seed}, from {first}) in {:.1} s: {} passed, {} refused as outside the model {outside:?}, \
+        "{} cases (seed {seed}, {which}) in {:.1} s: {} passed, {} refused as outside the model {outside:?}, \
          {} failed; {steps} steps; slowest passing case {} ({:.1} s)\n\
          Newton iterations per output step: {histogram:?}\ncut-backs per case: {cutback_cases:?}\n",
         cases,
