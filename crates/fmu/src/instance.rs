@@ -488,13 +488,14 @@ impl Instance {
                         return self.error(&format!("{function}: {} = {value} is not finite", v.name));
                     }
                     let changed = self.values[i].to_bits() != value.to_bits();
-                    self.values[i] = value;
+                    // a refused input leaves the held one in place
                     if let (true, Some(sim), false) = (changed, self.sim.as_mut(), self.stale) {
                         if let Err(e) = sim.set_torque(value) {
                             let t = self.time();
                             return self.error(&format!("{function}: tau = {value} N.m at t = {t} s: {e}"));
                         }
                     }
+                    self.values[i] = value;
                 }
             }
         }

@@ -824,3 +824,20 @@ fn reset_returns_to_the_instantiated_state_and_a_second_run_replays_the_first_bi
     }
     assert_eq!(torque_run(&fmu), first);
 }
+
+#[test]
+fn a_torque_input_beyond_the_hubs_limit_is_refused_naming_the_limit_and_changes_nothing() {
+    // the default geometry at E = 1e6 Pa: the hinge edge's traction stress is 3 |M| / (2 t w²)
+    // = 6.67e5 Pa per N·m (w = 0.015 m, t = 0.01 m), so a fifth of the modulus is 0.3 N·m
+    let fmu = Fmu::started(0.0, &[("youngs_modulus", 1e6)]);
+    assert_eq!(fmu.set("tau", 0.25), OK, "{:?}", fmu.log);
+    assert_eq!(fmu.step(0.0, 0.01), OK, "{:?}", fmu.log);
+    let before = fmu.outputs();
+    for tau in [-0.5, 0.31, 40.0] {
+        fmu.assert_refused(fmu.set("tau", tau), &["tau", "outside the model", "at most 0.3 N·m"]);
+    }
+    assert_eq!(fmu.outputs(), before, "a refused input changes no output");
+    // the held torque is still the last accepted one
+    assert_eq!(fmu.get("tau"), (OK, 0.25));
+    assert_eq!(fmu.step(0.01, 0.01), OK, "{:?}", fmu.log);
+}

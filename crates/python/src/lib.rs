@@ -21,8 +21,9 @@
 //! * **State**: `snapshot()`/`restore()` as bytes ([`pendulum_fem::Snapshot::to_bytes`]) and
 //!   pickling (the configuration as TOML and the snapshot).
 //! * **Errors**: the Rust message in a Python exception: `ValueError` for invalid input (a bad
-//!   key names the key), `ConvergenceError` (a `RuntimeError`) for a failed step, `OSError` for
-//!   files.
+//!   key names the key), `ConvergenceError` (a `RuntimeError`) for a failed step,
+//!   `OutsideModelError` (a `RuntimeError`) for a step that the model does not cover (its message
+//!   names the cause and what to change; a smaller step does not help), `OSError` for files.
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyUserWarning, PyValueError};
@@ -42,11 +43,20 @@ pyo3::create_exception!(
      exactly as before the call."
 );
 
+pyo3::create_exception!(
+    pendulum_fem,
+    OutsideModelError,
+    pyo3::exceptions::PyRuntimeError,
+    "A time step leads outside what the model covers (the message names the cause and what to \
+     change); the simulation is left exactly as before the call."
+);
+
 /// The Rust error as a Python exception with the Rust message.
 fn py_err(e: Error) -> PyErr {
     let message = e.to_string();
     match e {
         Error::TimeStep { .. } | Error::InitialEquilibrium { .. } => ConvergenceError::new_err(message),
+        Error::OutsideModel { .. } => OutsideModelError::new_err(message),
         Error::Io { .. } => PyOSError::new_err(message),
         Error::Config(_) | Error::Input(_) | Error::Geometry(_) | Error::Mesh(_) | Error::InvertedElement { .. } => {
             PyValueError::new_err(message)
@@ -618,6 +628,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(event_columns, m)?)?;
     m.add_function(wrap_pyfunction!(internal_steps, m)?)?;
     m.add("ConvergenceError", m.py().get_type::<ConvergenceError>())?;
+    m.add("OutsideModelError", m.py().get_type::<OutsideModelError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     study::register(m)?;
     Ok(())

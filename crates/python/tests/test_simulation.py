@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import pendulum_fem
-from pendulum_fem import ConvergenceError, Simulation
+from pendulum_fem import ConvergenceError, OutsideModelError, Simulation
 
 
 def bits(a):
@@ -206,6 +206,18 @@ def test_tau_declares_a_torque_input_before_the_first_step_and_is_refused_after(
     assert declared.tau == 1.0
 
 
+def test_a_torque_beyond_the_hubs_limit_is_refused_and_the_held_torque_stays():
+    # the default geometry at E = 1e6 Pa: 6.67e5 Pa of traction stress at the hinge edge's ends
+    # per N·m, so a fifth of the modulus is 0.3 N·m
+    sim = Simulation(material={"youngs_modulus": 1e6})
+    sim.tau = 0.25
+    sim.step(0.01)
+    with pytest.raises(ValueError, match=r"torque input -0\.5 N·m .*at most 0\.3 N·m.*outside the model"):
+        sim.tau = -0.5
+    assert sim.tau == 0.25
+    sim.step(0.01)
+
+
 def test_alpha_follows_tau_at_once():
     sim = Simulation()
     sim.tau = 0.0
@@ -252,6 +264,19 @@ def test_invalid_steps_raise_value_error_and_change_nothing():
     with pytest.raises(ValueError):
         sim.restore(other.snapshot())
     assert issubclass(ConvergenceError, RuntimeError)
+
+
+def test_a_head_coming_round_the_deformable_blocks_face_raises_outside_model_error_and_changes_nothing():
+    # thrown over the pivot, the head passes behind the block and comes round the end of its face
+    # onto it (the face is the block's only contact surface): at t = 0.5 s through the CLI
+    sim = Simulation(wall={"kind": "deformable"}, initial={"angular_velocity": 15.0})
+    with pytest.raises(OutsideModelError, match="come round the face's end"):
+        for _ in range(60):
+            before = sim.snapshot()
+            sim.step(0.01)
+    assert sim.snapshot() == before
+    assert 0.4 < sim.time < 0.6
+    assert issubclass(OutsideModelError, RuntimeError) and not issubclass(OutsideModelError, ConvergenceError)
 
 
 def test_importing_pendulum_fem_does_not_import_syssimx():

@@ -110,20 +110,23 @@ impl Simulation {
     /// error naming the key; declare a torque input with `profile = "constant"`, `amplitude = 0`.
     /// Before the first step the initial state is set up again with the held torque (its rigid
     /// acceleration `α₀` and the elastic equilibrium include it), exactly as with a configured
-    /// constant torque of that value.
+    /// constant torque of that value. A torque beyond the hub's limit is refused as
+    /// [`Error::Input`] ([`crate::terms::Torque::check_input`]), as a configured one is at set-up.
     pub fn set_torque(&mut self, value: f64) -> Result<(), Error> {
         if !value.is_finite() {
             return Err(Error::Input(format!(
                 "set_torque({value} N m): allowed a finite torque"
             )));
         }
-        if self.model.torque.is_none() {
+        let Some(torque) = &self.model.torque else {
             return Err(Error::Config(
                 "set_torque: this model has no torque term (torque.profile = \"none\"); set torque.profile = \
                  \"constant\" with torque.amplitude = 0 to declare a torque input"
                     .into(),
             ));
-        }
+        };
+        let c = &self.model.config;
+        torque.check_input(value, c.geometry.thickness, c.material.youngs_modulus)?;
         let before = (self.step == 0).then(|| self.rollback_point());
         self.apply_torque_input(Some(value));
         self.rates = None;

@@ -365,19 +365,42 @@ impl Torque {
     /// [`HUB_STRESS_LIMIT`] times Young's modulus: the case is outside the model (see there).
     pub fn check_hub_stress(&self, thickness: f64, youngs_modulus: f64) -> Result<(), Error> {
         let peak = self.peak();
-        let stress = self.edge_stress(peak, thickness);
-        if stress > HUB_STRESS_LIMIT * youngs_modulus {
-            return Err(Error::Config(format!(
-                "the torque's peak {peak} N·m (torque.amplitude or the table) drives the hinge edge with a traction \
-                 stress of {stress:.4e} Pa at its ends, {:.3} of material.youngs_modulus = {youngs_modulus:e} Pa; \
-                 allowed: at most {HUB_STRESS_LIMIT} of it. The torque acts as a traction on the hinge edge, the \
-                 model of a stiff shaft, and a hub strained more than that is outside the model (its elements at \
-                 the edge's ends fold). Use a smaller torque, a stiffer material, a wider rod \
+        self.hub_stress_excess(peak, thickness, youngs_modulus)
+            .map_or(Ok(()), |why| {
+                Err(Error::Config(format!(
+                    "the torque's peak {peak} N·m (torque.amplitude or the table) {why}"
+                )))
+            })
+    }
+
+    /// Refuses a torque input `m` \[N·m\] (held by [`crate::Simulation::set_torque`]) beyond the
+    /// same limit as the profile's peak ([`Torque::check_hub_stress`]).
+    pub fn check_input(&self, m: f64, thickness: f64, youngs_modulus: f64) -> Result<(), Error> {
+        self.hub_stress_excess(m, thickness, youngs_modulus)
+            .map_or(Ok(()), |why| {
+                Err(Error::Input(format!("the torque input {m} N·m {why}")))
+            })
+    }
+
+    /// Why a torque `m` is outside the model (the rest of the sentence after naming it), or
+    /// `None` within [`HUB_STRESS_LIMIT`].
+    fn hub_stress_excess(&self, m: f64, thickness: f64, youngs_modulus: f64) -> Option<String> {
+        let stress = self.edge_stress(m, thickness);
+        (stress > HUB_STRESS_LIMIT * youngs_modulus).then(|| {
+            // the largest torque allowed, to 4 significant digits
+            let largest = m.abs() * HUB_STRESS_LIMIT * youngs_modulus / stress;
+            let digits = 10f64.powi(3 - largest.log10().floor() as i32);
+            let largest = (largest * digits).round() / digits;
+            format!(
+                "drives the hinge edge with a traction stress of {stress:.4e} Pa at its ends, {:.3} of \
+                 material.youngs_modulus = {youngs_modulus:e} Pa; allowed: at most {HUB_STRESS_LIMIT} of it, a \
+                 torque of at most {largest} N·m in magnitude. The torque acts as a traction on the hinge edge, \
+                 the model of a stiff shaft, and a hub strained more than that is outside the model (its elements \
+                 at the edge's ends fold). Use a smaller torque, a stiffer material, a wider rod \
                  (geometry.rod_half_width; the stress falls with its square) or a thicker plate (geometry.thickness)",
                 stress / youngs_modulus
-            )));
-        }
-        Ok(())
+            )
+        })
     }
 
     /// Follower or fixed direction (`torque.follower`).

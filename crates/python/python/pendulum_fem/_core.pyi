@@ -13,6 +13,11 @@ class ConvergenceError(RuntimeError):
     """A time step (or the initial equilibrium) failed after every cut-back; the simulation is
     left exactly as before the call."""
 
+
+class OutsideModelError(RuntimeError):
+    """A time step leads outside what the model covers (the message names the cause and what to
+    change); the simulation is left exactly as before the call."""
+
 def csv_columns(wall: bool = False) -> List[str]:
     """The header of ``results.csv``: the column names of :meth:`Simulation.run`; with
     ``wall=True`` those of a model with a wall (``gap_m``, ``contact_force_N``, ``contact_J``,
