@@ -616,7 +616,7 @@ fn step_and_table_profiles_drive_a_run_from_the_command_line() {
 #[test]
 fn a_torque_straining_a_soft_hub_past_a_fifth_of_its_modulus_is_refused_through_the_cli() {
     // the default geometry: rod half-width w = 0.015 m, thickness t = 0.01 m, so the hinge edge's
-    // traction stress at its ends is σ = 3 |M| / (2 t w²) = 6667 Pa per N·m (Gauss-exact weights
+    // traction stress at its ends is σ = 3 |M| / (2 t w²) = 6.67e5 Pa per N·m (Gauss-exact weights
     // on the straight edge: ∫ X_x² ds = 2 w³ / 3)
     let mut cfg = Config::default();
     cfg.torque.profile = Kind::Constant;

@@ -1289,7 +1289,7 @@ impl Simulation {
                 let u0 = self.model.wall.is_some().then(|| self.state.u.clone());
                 its += self.advance_by(h, 0).map_err(failed(self.step + 1))?;
                 if let Some(u0) = u0 {
-                    self.check_contact_pattern(self.step + 1)?;
+                    self.check_contact_step(self.step + 1, t0, &u0)?;
                     self.contact_step_ends(&u0, h);
                 }
             }

@@ -174,7 +174,7 @@ impl Simulation {
             let apart = !wall.in_contact(&s.u);
             let before = self.rollback_point();
             its += self.advance_by(h, 0).map_err(failed)?;
-            self.check_contact_pattern(step)?;
+            self.check_contact_step(step, t0, &before.snapshot.state.u)?;
             let u0 = &before.snapshot.state.u;
             let wall = self.model.wall.as_ref().expect("checked");
             if self.contact_phase.is_none() && apart && wall.in_contact(&self.state.u) {
@@ -183,7 +183,7 @@ impl Simulation {
                 if crossing > 1e-3 && crossing < 1.0 {
                     self.roll_back(&before);
                     its += self.advance_by(crossing * h, 0).map_err(failed)?;
-                    self.check_contact_pattern(step)?;
+                    self.check_contact_step(step, t0, &before.snapshot.state.u)?;
                     self.begin_contact();
                 } else {
                     self.begin_contact();
@@ -221,15 +221,18 @@ impl Simulation {
         std::mem::take(&mut self.impact_records)
     }
 
-    /// A contact that the fixed sparsity pattern does not cover is an error naming it (see
-    /// [`RigidWall::uncoupled_contact`]); `step` is the step in progress.
-    pub(super) fn check_contact_pattern(&self, step: usize) -> Result<(), Error> {
-        match self
-            .model
-            .wall
-            .as_ref()
-            .and_then(|w| w.uncoupled_contact(&self.state.u))
-        {
+    /// The (sub)step just taken from `u0` (started at `t0`, the output step `step` in progress):
+    /// a head that came round the deformable wall's face end is outside the model
+    /// ([`RigidWall::came_round`]), and a contact that the fixed sparsity pattern does not cover
+    /// is an error naming it ([`RigidWall::uncoupled_contact`]).
+    pub(super) fn check_contact_step(&self, step: usize, t0: f64, u0: &[f64]) -> Result<(), Error> {
+        let Some(wall) = self.model.wall.as_ref() else {
+            return Ok(());
+        };
+        if let Some(message) = wall.came_round(u0, &self.state.u) {
+            return Err(Error::OutsideModel { step, t: t0, message });
+        }
+        match wall.uncoupled_contact(&self.state.u) {
             Some(message) => Err(Error::ContactOutsidePattern {
                 step,
                 t: self.state.t,
