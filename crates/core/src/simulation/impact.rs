@@ -174,8 +174,8 @@ impl Simulation {
             let apart = !wall.in_contact(&s.u);
             let before = self.rollback_point();
             its += self.advance_by(h, 0).map_err(failed)?;
-            self.check_contact_step(step, t0, &before.snapshot.state.u)?;
             let u0 = &before.snapshot.state.u;
+            self.check_contact_step(step, t0, u0)?;
             let wall = self.model.wall.as_ref().expect("checked");
             if self.contact_phase.is_none() && apart && wall.in_contact(&self.state.u) {
                 // a touch the rigid flight did not foresee: retake the step up to the crossing
@@ -183,7 +183,7 @@ impl Simulation {
                 if crossing > 1e-3 && crossing < 1.0 {
                     self.roll_back(&before);
                     its += self.advance_by(crossing * h, 0).map_err(failed)?;
-                    self.check_contact_step(step, t0, &before.snapshot.state.u)?;
+                    self.check_contact_step(step, t0, u0)?;
                     self.begin_contact();
                 } else {
                     self.begin_contact();

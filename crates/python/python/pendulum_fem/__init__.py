@@ -19,10 +19,25 @@ of the CLI's ``events.csv``) read it, and ``run`` adds the contact columns.
 syssimx co-simulation component.
 """
 
-from ._core import ConvergenceError, OutsideModelError, Simulation, __version__, csv_columns, event_columns
+from ._core import (
+    ConvergenceError,
+    OutsideModelError,
+    Simulation,
+    __version__,
+    csv_columns,
+    event_columns,
+)
 from .sweep import sweep
 
-__all__ = ["Simulation", "ConvergenceError", "OutsideModelError", "csv_columns", "event_columns", "__version__", "sweep"]
+__all__ = [
+    "Simulation",
+    "ConvergenceError",
+    "OutsideModelError",
+    "csv_columns",
+    "event_columns",
+    "__version__",
+    "sweep",
+]
 
 
 def _rebuild_simulation(config_toml: str, snapshot: bytes) -> Simulation:
