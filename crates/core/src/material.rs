@@ -211,6 +211,13 @@ impl Material {
     /// `x₂ = 4 det D`, and with `p = k/2`, `w = 1/(1 + x_m)`, `d = (1 + x_m)^(−p−1)`:
     /// `ψ''' = (μ/2)(p + 1) d w x₁ (6 x₂ − (p + 2) w x₁²)`.
     pub fn discrete_stress(&self, e0: &Sym, e1: &Sym) -> Sym {
+        self.discrete_stress_from(e0, self.strain_energy(e0), e1)
+    }
+
+    /// [`Material::discrete_stress`] with `ψ(E₀)` given as [`Material::strain_energy`] returns it
+    /// (value and rounding scale): the start of a step is the same for all its Newton iterations,
+    /// and for a strained soft body the energy's power function is a third of the stress's cost.
+    pub fn discrete_stress_from(&self, e0: &Sym, psi0: (f64, f64), e1: &Sym) -> Sym {
         let em = [0.5 * (e0[0] + e1[0]), 0.5 * (e0[1] + e1[1]), 0.5 * (e0[2] + e1[2])];
         let de = [e1[0] - e0[0], e1[1] - e0[1], e1[2] - e0[2]];
         let (mut s, d, det_c) = self.second_piola_parts(&em);
@@ -219,7 +226,7 @@ impl Material {
             return s;
         }
         let numerator = if norm2 >= TAYLOR_LIMIT * TAYLOR_LIMIT {
-            let (psi0, psi1) = (self.strain_energy(e0), self.strain_energy(e1));
+            let psi1 = self.strain_energy(e1);
             let work = sym_dot(&s, &de);
             let numerator = psi1.0 - psi0.0 - work;
             let size = psi0.1 + psi1.1 + (s[0] * de[0]).abs() + (s[1] * de[1]).abs() + 2.0 * (s[2] * de[2]).abs();

@@ -374,7 +374,7 @@ pub const VARIABLES: &[Variable] = &[
     integer(
         "solver_max_iterations",
         41,
-        20.0,
+        40.0,
         "Newton iterations allowed per step",
         "solver.max_iterations",
     ),

@@ -39,8 +39,9 @@ use crate::Mesh;
 /// Elements per parallel block.
 const BLOCK: usize = 1024;
 
-/// Start-of-step values per quadrature point for the discrete gradient: `F₀` (4) and `E₀` (3).
-const START: usize = 7;
+/// Start-of-step values per quadrature point for the discrete gradient: `F₀` (4), `E₀` (3) and
+/// `ψ(E₀)` with its rounding scale (2, [`Material::strain_energy`]).
+const START: usize = 9;
 
 /// The elastic strain energy of the whole body.
 #[derive(Clone, Debug)]
@@ -169,7 +170,7 @@ impl Elastic {
             let s0 = &start[k * START..(k + 1) * START];
             let e0 = [s0[4], s0[5], s0[6]];
             let e1 = green_strain(&f1);
-            let mut s = m.discrete_stress(&e0, &e1);
+            let mut s = m.discrete_stress_from(&e0, (s0[7], s0[8]), &e1);
             if chi > 0.0 {
                 let de = [e1[0] - e0[0], e1[1] - e0[1], e1[2] - e0[2]];
                 let (l, m2) = (0.5 * chi * m.lambda * (de[0] + de[1]), chi * m.mu);
@@ -258,8 +259,8 @@ pub fn deformation_gradient(nodes: &[usize; 6], grads: &[[f64; 2]; 6], u: &[f64]
 }
 
 impl Elastic {
-    /// The start data of a discrete gradient ([`Term::discrete_start`]): `F` and `E` at every
-    /// quadrature point of `u0`.
+    /// The start data of a discrete gradient ([`Term::discrete_start`]): `F`, `E` and `ψ(E)` at
+    /// every quadrature point of `u0`.
     fn start_data(&self, u0: &[f64]) -> Vec<f64> {
         let nq = self.cache.points_per_element;
         let mut out = vec![0.0; self.cache.weights.len() * START];
@@ -267,8 +268,11 @@ impl Elastic {
             for q in 0..nq {
                 let f = self.deformation_gradient(e, q, u0);
                 let c = &mut chunk[q * START..(q + 1) * START];
+                let e0 = green_strain(&f);
+                let (psi, scale) = self.material.strain_energy(&e0);
                 c[..4].copy_from_slice(&f);
-                c[4..7].copy_from_slice(&green_strain(&f));
+                c[4..7].copy_from_slice(&e0);
+                c[7..9].copy_from_slice(&[psi, scale]);
             }
         });
         out
@@ -316,7 +320,7 @@ impl Term for Elastic {
         self.run(u, Some(g), pattern, values)
     }
 
-    /// Per quadrature point `F₀` and `E₀`.
+    /// Per quadrature point `F₀`, `E₀` and `ψ(E₀)`.
     fn discrete_start(&self, cx: &StepContext) -> Vec<f64> {
         self.start_data(cx.u0)
     }
