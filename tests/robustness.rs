@@ -248,10 +248,17 @@ fn draw(seed: u64, index: usize) -> Case {
 ///
 /// Beyond the CI range the open cases are soft Neo-Hookean heads (E = 2.5–24 MPa) struck
 /// against a wall (seed 18's cases 5, 12, 13; seed 19's case 3; seed 20's cases 0, 13, 23, 27;
-/// seed 21's cases 0, 1, 10). Inside their impacts the points that penetrate change from one
-/// sub-step to the next (the penalty's own mode, `ω h` ≈ 80 at a point, is far shorter than any
-/// affordable sub-step), and each sub-step's Newton iteration spends 10–40 iterations finding
-/// them. Kept: 40 Newton iterations by default instead of 20 (halving such a sub-step does not
+/// seed 21's cases 0, 1, 10). Inside their impacts each sub-step takes 10–40 Newton iterations
+/// that contract by 0.5–0.9 each, and the points that penetrate at a sub-step's end are not
+/// those that penetrated at its start (31 entering, 43 leaving, in seed 18's case 5; the
+/// penalty's own mode, `ω h` ≈ 80 at a point, is far shorter than any affordable sub-step).
+/// Why the iterations are slow is open: three prototypes aimed at the contact changed nothing
+/// on case 5 up to 0.41 s (2599 iterations): no inertia at the arc's nodes (the modified mass
+/// method, no fast mode to chatter in) 2474; the arc's nodes put back on the face in the
+/// predictor (first residual 1e4 N otherwise) 2538; the chord from the face as the slope of
+/// shallow entering points (whose secant force grows with the square of the depth) 2608. The
+/// strongly compressed Neo-Hookean elements under 0.9–1.8 kN of contact force are the next
+/// suspect. Kept: 40 Newton iterations by default instead of 20 (halving such a sub-step does not
 /// reduce its iterations) and the start's strain energy kept for the whole step (8.7 % less
 /// time). Beside a second case, seed 18's case 5 then reaches t = 1.58 s of 1.707 s in 120 s,
 /// case 13 1.80 s of 1.882 s and seed 19's case 3 1.78 s (the impacts cost 20–30 s each); seed
