@@ -42,6 +42,15 @@ fn run_case(name: &str, wall: bool, end: f64) -> (PathBuf, RunSummary) {
     (dir, summary)
 }
 
+/// A run of the configuration `toml` (a case of the random-case campaign) into a fresh folder
+/// `name`, and its outcome.
+fn run_toml(name: &str, toml: &str) -> (PathBuf, Result<RunSummary, pendulum_fem::Error>) {
+    let config = Config::from_toml_str(toml).unwrap();
+    let dir = temp_dir(name);
+    let outcome = run_job(&options(config, &dir));
+    (dir, outcome)
+}
+
 /// The wall run shared by the tests and its summary: three impacts (about 0.240, 0.721 and
 /// 1.202 s).
 fn wall_job() -> &'static (PathBuf, RunSummary) {
@@ -708,7 +717,8 @@ fn a_head_coming_round_the_blocks_face_end_in_a_step_that_succeeds_stops_before_
     // over the pivot comes down behind the face's line beyond its end. Every step succeeded: the
     // face's energy at its end pushed the head back (ω from +16.3 to −18.8 rad/s at θ = 4.31 rad,
     // "impact" from t = 1.2801 s, 16 mm deep) off a corner the model does not have
-    let config = Config::from_toml_str(
+    let (dir, outcome) = run_toml(
+        "round-the-corner",
         "[geometry]\nrod_half_width = 0.0141\nhead_radius = 0.05684\nhole_radius = 0.02502\n\
          head_center_distance = 0.1292\nthickness = 0.005873\n[mesh]\nrefine = 1.435\n\
          [material]\nyoungs_modulus = 1.509e11\npoisson_ratio = 0.422\ndensity = 7469\n\
@@ -716,12 +726,8 @@ fn a_head_coming_round_the_blocks_face_end_in_a_step_that_succeeds_stops_before_
          [torque]\nprofile = \"sine\"\namplitude = -0.6444\nfrequency = 0.423\n\
          [wall]\nkind = \"deformable\"\nx = -0.07167\nyoungs_modulus = 8.141e10\ncenter_y = -0.1292\n\
          [contact]\nstiffness = 1.693e9\n",
-    )
-    .unwrap();
-    let dir = temp_dir("round-the-corner");
-    let message = run_job(&options(config, &dir))
-        .expect_err("it comes round the face's end")
-        .to_string();
+    );
+    let message = outcome.expect_err("it comes round the face's end").to_string();
     assert!(
         message.contains("outside the model") && message.contains("over the step") && message.contains("come round"),
         "{message}"
@@ -741,19 +747,17 @@ fn a_soft_head_struck_against_a_stiff_wall_comes_through_its_impact_without_a_cu
     // 0.5–0.9); with the former default of 20 iterations such a sub-step was
     // halved again and again (halving did not reduce its iterations), and the impact was still
     // unfinished after 118 s
-    let config = Config::from_toml_str(
-        "[geometry]\nrod_half_width = 0.01549\nhead_radius = 0.05923\nhole_radius = 0.03029\n\
+    let toml = "[geometry]\nrod_half_width = 0.01549\nhead_radius = 0.05923\nhole_radius = 0.03029\n\
          head_center_distance = 0.1533\nthickness = 0.01409\n[mesh]\nrefine = 1.244\n\
          [material]\nyoungs_modulus = 2.983e6\npoisson_ratio = 0.3693\ndensity = 2458\n\
          [initial]\nangle_deg = 110.8\nangular_velocity = 5.128\n[time]\ndt = 1.672e-3\nend = 0.41\n\
          [torque]\nprofile = \"step\"\namplitude = 0.1059\nstart = 0.2837\n\
          [wall]\nkind = \"rigid\"\nx = -0.05963\n[contact]\nstiffness = 1.617e12\n\
-         [output]\nplots = false\nanimation = false\nparaview = false\nviewer = false\n",
-    )
-    .unwrap();
+         [output]\nplots = false\nanimation = false\nparaview = false\nviewer = false\n";
+    let config = Config::from_toml_str(toml).unwrap();
     assert_eq!(config.solver.max_iterations, 40, "the default under test");
-    let dir = temp_dir("soft-head-stiff-wall");
-    let summary = run_job(&options(config, &dir)).unwrap();
+    let (dir, outcome) = run_toml("soft-head-stiff-wall", toml);
+    let summary = outcome.unwrap();
     assert_eq!(summary.cutbacks, 0, "no sub-step was halved");
     let events = std::fs::read_to_string(dir.join("events.csv")).unwrap();
     let kinds: Vec<&str> = events.lines().skip(1).filter_map(|l| l.split(',').nth(1)).collect();

@@ -210,14 +210,12 @@ impl Material {
     /// `det C = 1 + x(s)`, `x = x_m + s x₁ + s² x₂` with `x₁ = 2 tr D + 4 (E₀₀D₁₁ + E₁₁D₀₀ − 2E₀₁D₀₁)`,
     /// `x₂ = 4 det D`, and with `p = k/2`, `w = 1/(1 + x_m)`, `d = (1 + x_m)^(−p−1)`:
     /// `ψ''' = (μ/2)(p + 1) d w x₁ (6 x₂ − (p + 2) w x₁²)`.
-    pub fn discrete_stress(&self, e0: &Sym, e1: &Sym) -> Sym {
-        self.discrete_stress_from(e0, self.strain_energy(e0), e1)
-    }
-
-    /// [`Material::discrete_stress`] with `ψ(E₀)` given as [`Material::strain_energy`] returns it
-    /// (value and rounding scale): the start of a step is the same for all its Newton iterations,
-    /// and for a strained soft body the energy's power function is a third of the stress's cost.
-    pub fn discrete_stress_from(&self, e0: &Sym, psi0: (f64, f64), e1: &Sym) -> Sym {
+    ///
+    /// `psi0` is `ψ(E₀)` as [`Material::strain_energy`] returns it (value and rounding scale):
+    /// the start of a step is the same for all its Newton iterations, so the caller computes it
+    /// once per step; for a strained soft body the energy's power function is a third of the
+    /// stress's cost.
+    pub fn discrete_stress(&self, e0: &Sym, psi0: (f64, f64), e1: &Sym) -> Sym {
         let em = [0.5 * (e0[0] + e1[0]), 0.5 * (e0[1] + e1[1]), 0.5 * (e0[2] + e1[2])];
         let de = [e1[0] - e0[0], e1[1] - e0[1], e1[2] - e0[2]];
         let (mut s, d, det_c) = self.second_piola_parts(&em);

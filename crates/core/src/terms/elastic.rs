@@ -170,7 +170,7 @@ impl Elastic {
             let s0 = &start[k * START..(k + 1) * START];
             let e0 = [s0[4], s0[5], s0[6]];
             let e1 = green_strain(&f1);
-            let mut s = m.discrete_stress_from(&e0, (s0[7], s0[8]), &e1);
+            let mut s = m.discrete_stress(&e0, (s0[7], s0[8]), &e1);
             if chi > 0.0 {
                 let de = [e1[0] - e0[0], e1[1] - e0[1], e1[2] - e0[2]];
                 let (l, m2) = (0.5 * chi * m.lambda * (de[0] + de[1]), chi * m.mu);
