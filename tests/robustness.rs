@@ -258,7 +258,15 @@ fn draw(seed: u64, index: usize) -> Case {
 /// predictor (first residual 1e4 N otherwise) 2538; the chord from the face as the slope of
 /// shallow entering points (whose secant force grows with the square of the depth) 2608. The
 /// strongly compressed Neo-Hookean elements under 0.9–1.8 kN of contact force are the next
-/// suspect. Kept: 40 Newton iterations by default instead of 20 (halving such a sub-step does not
+/// suspect. Since then, a watchdog in Newton's line search (`newton::WATCHDOG_STEPS`: up to four
+/// full steps in a row although the residual grew, the tangent renewed after each) ended the
+/// line search's damping to 1/16–1/32 that made these iterations slow: case 5 up to 0.41 s in
+/// 1920 iterations and 12.3 s instead of 2599 and 22.7 s. Beside a second case at the full limit,
+/// seed 18's cases 5 and 13, seed 19's case 3, seed 21's case 10 and seed 22's case 1 then
+/// passed (the slowest in 108 s); seed 20's four reached 0.43–0.81 s and seed 21's cases 0 and 1
+/// 0.55 and 0.94 s; case 12 fails at t = 0.30 s with an indefinite tangent (a diagonal raised by
+/// up to 100 % until it factorised took it only to 0.34 s: not kept). Kept before:
+/// 40 Newton iterations by default instead of 20 (halving such a sub-step does not
 /// reduce its iterations) and the start's strain energy kept for the whole step (8.7 % less
 /// time). Beside a second case, seed 18's case 5 then reaches t = 1.58 s of 1.707 s in 120 s,
 /// case 13 1.80 s of 1.882 s and seed 19's case 3 1.78 s (the impacts cost 20–30 s each); seed
