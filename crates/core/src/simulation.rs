@@ -607,6 +607,8 @@ pub struct Simulation {
     /// The records of the sub-steps inside impacts not yet taken
     /// ([`Simulation::take_impact_records`]; roll-backs truncate it).
     impact_records: Vec<StepRecord>,
+    /// The sub-step ends of the impact in progress, for the predictor of a chattering contact.
+    impact_trail: impact::ImpactTrail,
     scratch: Vec<f64>,
     /// `(t, α)` at the start of the previous (sub)step, for the predictor's `α̇`.
     previous_alpha: Option<(f64, f64)>,
@@ -716,6 +718,7 @@ impl Simulation {
             contact_phase: None,
             recording_impacts: false,
             impact_records: Vec::new(),
+            impact_trail: impact::ImpactTrail::default(),
             solver,
             state,
             lambda: [0.0; 2],
@@ -1065,7 +1068,10 @@ impl Simulation {
 
     /// One energy-momentum step ([`crate::energy_momentum`]).
     fn try_step_energy_momentum(&mut self, dt: f64) -> Result<(State, [f64; 2], usize), NewtonError> {
-        let mut u = self.rotational_guess(dt);
+        // inside a chattering impact, the extrapolation of its alternation, with a fresh tangent
+        let chatter = self.chatter_guess(dt);
+        let fresh_tangent = chatter.is_some();
+        let mut u = chatter.unwrap_or_else(|| self.rotational_guess(dt));
         let (t0, t_new) = (self.state.t, self.state.t + dt);
         let load_scale = self.load_scale(t_new);
         let kinetic = self.kinematics().kinetic;
@@ -1124,7 +1130,7 @@ impl Simulation {
             length_scale: m.length_scale(),
             frame_angle: m.projection.angle(&u),
             matrix_key: EnergyMomentum::inertia_factor(dt) / (1.0 + chi),
-            reuse: true,
+            reuse: !fresh_tangent,
             residual_turn: 0.5 * crate::newton::wrap_angle(m.projection.angle(&u) - m.projection.angle(u0)),
         };
         let report = self.solver.solve(

@@ -39,6 +39,26 @@
 //! time at which the largest penetration returns to zero, interpolated in the last sub-step) with
 //! the impulse of the wall over it ([`ContactEvent`]).
 //!
+//! **A chattering contact.** Where the penalty is far stiffer than the body (a soft head, or a
+//! stiff `contact.stiffness`), the arc's points have a period of microseconds against sub-steps
+//! of tens: the midpoint rule maps that motion to a phase near π per sub-step, and the points
+//! alternate between entering and leaving the wall from one sub-step to the next (measured on a
+//! 24 MPa head at `k = 7e12 N/m³`: 15 of 16 penetrating points swap every sub-step, by about a
+//! micrometre). The rigid-rotation predictor then puts the arc 0.1 mm into the wall (a first
+//! Newton correction of 1e3 J), and the secant of a point that enters (`∝ a²/(a + b)` in its
+//! penetration `a`) is flat near the solution, which Newton approaches by halving: 11–16
+//! iterations per sub-step. Once the smallest gap has alternated over the last three sub-step
+//! ends, the predictor takes the state two sub-steps back, moved on by the drift measured over
+//! the two sub-steps before (the extrapolation exact for a motion linear in time plus an
+//! alternation from one sub-step to the next):
+//!
+//! ```text
+//! u_{n+1} ≈ u_{n−1} + (t_{n+1} − t_{n−1}) / (t_n − t_{n−2}) · (u_n − u_{n−2})
+//! ```
+//!
+//! and the tangent is made afresh (the previous sub-step's factorisation has the entering and
+//! leaving points' slopes swapped): 6–8 iterations ([`Simulation::chatter_guess`]).
+//!
 //! With `contact.method = "penalty"` the steps are not split (the tutorial's way); the events are
 //! then located between step ends only.
 
@@ -107,6 +127,31 @@ pub(super) struct ContactPhase {
     pub penetration: f64,
     /// Largest normal force so far \[N\].
     pub force: f64,
+}
+
+/// The sub-step ends of the impact in progress before the current state, for the predictor of a
+/// chattering contact (see the module doc).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct ImpactTrail {
+    /// `(t, u)` at the ends of the (at most two) sub-steps before the last one, oldest first.
+    pub earlier: Vec<(f64, Vec<f64>)>,
+    /// When the last sub-step ended \[s\]: the trail leads to the current state only if it is now.
+    pub end: f64,
+}
+
+impl ImpactTrail {
+    /// Appends the sub-step from `(t0, u0)` that ended at `t1`.
+    fn push(&mut self, t0: f64, u0: &[f64], t1: f64) {
+        if self.earlier.len() == 2 {
+            let mut oldest = self.earlier.remove(0);
+            oldest.0 = t0;
+            oldest.1.copy_from_slice(u0);
+            self.earlier.push(oldest);
+        } else {
+            self.earlier.push((t0, u0.to_vec()));
+        }
+        self.end = t1;
+    }
 }
 
 impl Simulation {
@@ -193,6 +238,11 @@ impl Simulation {
             }
             if self.contact_phase.is_some() {
                 self.contact_progress(u0, h);
+                if self.contact_phase.is_some() {
+                    self.impact_trail.push(before.snapshot.state.t, u0, self.state.t);
+                } else {
+                    self.impact_trail = ImpactTrail::default();
+                }
                 if self.recording_impacts && self.state.t < t_end - 1e-9 * dt {
                     // inside the step (its end is the output step's own record)
                     let record = self.record(its);
@@ -201,6 +251,34 @@ impl Simulation {
             }
         }
         Ok(its)
+    }
+
+    /// The predictor of a sub-step of length `dt` inside a chattering impact (see the module doc),
+    /// or `None`: not in an impact resolved in sub-steps, fewer than three sub-steps of it behind
+    /// the current state, or a smallest gap that did not alternate over them.
+    pub(super) fn chatter_guess(&self, dt: f64) -> Option<Vec<f64>> {
+        self.contact_phase.filter(|p| p.resolved)?;
+        let trail = &self.impact_trail;
+        let wall = self.model.wall.as_ref()?;
+        let [(t2, u2), (t1, u1)] = trail.earlier.as_slice() else {
+            return None;
+        };
+        let (t0, u0) = (self.state.t, &self.state.u);
+        if trail.end != t0 {
+            return None;
+        }
+        let [g2, g1, g0] = [u2, u1, u0].map(|u| wall.smallest_gap(u));
+        if (g0 - g1) * (g1 - g2) >= 0.0 {
+            return None;
+        }
+        let drift = (t0 + dt - t1) / (t0 - t2);
+        Some(
+            u1.iter()
+                .zip(u0)
+                .zip(u2)
+                .map(|((a, b), c)| a + drift * (b - c))
+                .collect(),
+        )
     }
 
     /// Records the state after every sub-step inside an impact (not at the output step's end,
@@ -271,6 +349,7 @@ impl Simulation {
         };
         let tau = (delta / speed).max(std::f64::consts::FRAC_PI_4 * (mass / body).sqrt());
         let substep = tau / m.config.contact.substeps as f64;
+        self.impact_trail = ImpactTrail::default();
         self.contact_phase = Some(ContactPhase {
             substep,
             resolved: true,

@@ -5,7 +5,8 @@
 //! the unwrapped θ (the branch of the unwrapping), the `(t, α)` of the previous step (the
 //! predictor's `α̇`), the run of equal steps of the clock, the Newton iterations of the last step,
 //! the torque's work and the held torque input (terms keep no state of their own), the contact
-//! events and the impact in progress, and the
+//! events, the impact in progress and its last sub-step ends (the predictor of a chattering
+//! contact), and the
 //! solver's reusable factorisation. The factorisation is reused across steps, so the iterates of
 //! later steps depend on it bit for bit; the snapshot keeps the *matrix* that was factorised and its
 //! frame (not the factor), and restoring factorises that matrix again, which reproduces the factor
@@ -41,7 +42,7 @@
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
-use super::impact::ContactPhase;
+use super::impact::{ContactPhase, ImpactTrail};
 use super::{Clock, ContactEvent, ContactEventKind, Simulation};
 use crate::config::Config;
 use crate::newmark::State;
@@ -51,8 +52,8 @@ use crate::terms::torque::TorqueTable;
 use crate::{Error, Mesh};
 
 /// Version of the byte format of [`Snapshot::to_bytes`] (3: the fingerprint in three parts, without
-/// file paths).
-pub const SNAPSHOT_VERSION: u32 = 3;
+/// file paths; 4: the impact's last sub-step ends).
+pub const SNAPSHOT_VERSION: u32 = 4;
 
 const MAGIC: &[u8; 8] = b"PFEMSNAP";
 
@@ -75,6 +76,7 @@ pub struct Snapshot {
     impacts: usize,
     events: Vec<ContactEvent>,
     contact_phase: Option<ContactPhase>,
+    impact_trail: ImpactTrail,
     factor: Option<Arc<FactorState>>,
 }
 
@@ -263,6 +265,7 @@ impl Simulation {
             impacts: self.impacts,
             events,
             contact_phase: self.contact_phase,
+            impact_trail: self.impact_trail.clone(),
             factor: self.solver.factor_state(),
         }
     }
@@ -283,7 +286,8 @@ impl Simulation {
         }
         let n = self.state.u.len();
         let s = &snapshot.state;
-        if s.u.len() != n || s.v.len() != n || s.a.len() != n {
+        let trail_sizes = snapshot.impact_trail.earlier.iter().map(|(_, u)| u.len());
+        if s.u.len() != n || s.v.len() != n || s.a.len() != n || trail_sizes.into_iter().any(|m| m != n) {
             return Err(Error::Input(format!(
                 "snapshot: fields of {} values for a mesh of {n} degrees of freedom",
                 s.u.len()
@@ -315,6 +319,7 @@ impl Simulation {
         self.apply_torque_input(s.held_torque);
         self.impacts = s.impacts;
         self.contact_phase = s.contact_phase;
+        self.impact_trail = s.impact_trail.clone();
         self.rates = None;
         // The matrix was factorised before with this symbolic analysis; should that fail now, the
         // next step factorises afresh.
@@ -496,6 +501,12 @@ impl Snapshot {
             }
             None => w.u8(0),
         }
+        w.usize(self.impact_trail.earlier.len());
+        for (t, u) in &self.impact_trail.earlier {
+            w.f64(*t);
+            w.vec(u);
+        }
+        w.f64(self.impact_trail.end);
         match &self.factor {
             Some(f) => {
                 w.u8(1);
@@ -604,6 +615,19 @@ impl Snapshot {
         } else {
             None
         };
+        let trail_len = r.usize("impact trail")?;
+        if trail_len > 2 {
+            return Err(Error::Input(format!(
+                "{source}: {trail_len} sub-step ends of the impact in progress, allowed at most 2"
+            )));
+        }
+        let earlier = (0..trail_len)
+            .map(|_| Ok((r.f64("impact trail")?, r.vec("impact trail")?)))
+            .collect::<Result<Vec<_>, Error>>()?;
+        let impact_trail = ImpactTrail {
+            earlier,
+            end: r.f64("impact trail")?,
+        };
         let factor = if r.flag("factorisation")? {
             let frame = (r.f64("factorisation")?, r.f64("factorisation")?);
             let values = r.vec("factorisation")?;
@@ -635,6 +659,7 @@ impl Snapshot {
             impacts,
             events,
             contact_phase,
+            impact_trail,
             factor,
         })
     }
