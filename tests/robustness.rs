@@ -278,7 +278,12 @@ fn draw(seed: u64, index: usize) -> Case {
 ///   converge, and seed 18's case 5 took 136 s with 71 cut-backs instead of 99 s with 1;
 /// - a predictor for chattering points, `u₋₁ + (u₀ − u₋₂)` (exact for a smooth path plus an
 ///   alternation every sub-step): with 20 iterations, first residuals 1.2–5 times smaller and
-///   13 iterations a contact sub-step instead of 15, but 164 cut-backs: 182 s;
+///   13 iterations a contact sub-step instead of 15, but 164 cut-backs: 182 s. Since kept in a
+///   later form (`Simulation::chatter_guess`: only once the smallest gap has alternated over
+///   three sub-step ends, times of unequal sub-steps weighed, a fresh tangent; with 40
+///   iterations and the watchdog): 674 iterations instead of 1028 through the chattering impact
+///   of `tests/wall.rs`; beside a second case at the full limit, seed 20's cases 0, 13, 23, 27
+///   reached 0.81, 0.83, 0.66, 1.15 s (0.81, 0.71, 0.53, 1.03 s without it, in the same session);
 /// - larger contact sub-steps (`contact.substeps` = 5 instead of 10): 1.0 s of case 5 in 155 s;
 /// - inside an impact, the previous sub-step's displacement increment as the predictor instead of
 ///   the rigid turn: seed 18's case 5 then passes alone (77.7 s; with the turn it stalls in its

@@ -286,11 +286,14 @@ impl Simulation {
         }
         let n = self.state.u.len();
         let s = &snapshot.state;
-        let trail_sizes = snapshot.impact_trail.earlier.iter().map(|(_, u)| u.len());
-        if s.u.len() != n || s.v.len() != n || s.a.len() != n || trail_sizes.into_iter().any(|m| m != n) {
+        let trail = snapshot.impact_trail.earlier.iter().map(|(_, u)| u.len());
+        if let Some(m) = [s.u.len(), s.v.len(), s.a.len()]
+            .into_iter()
+            .chain(trail)
+            .find(|&m| m != n)
+        {
             return Err(Error::Input(format!(
-                "snapshot: fields of {} values for a mesh of {n} degrees of freedom",
-                s.u.len()
+                "snapshot: fields of {m} values for a mesh of {n} degrees of freedom"
             )));
         }
         self.apply_fields(snapshot);
