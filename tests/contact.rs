@@ -93,13 +93,13 @@ fn through_an_impact_the_discrete_work_is_the_change_of_contact_energy() {
             let (u0, u1) = (shifted(&mesh, d0, k as f64), shifted(&mesh, d1, 10.0 + k as f64));
             let start = StepStart {
                 u: &u0,
-                t: 0.0,
                 data: &[],
                 dissipation: 0.0,
             };
             let mut g = vec![0.0; u0.len()];
             let cx = StepContext {
                 t: 0.01,
+                t0: 0.0,
                 dt: 0.01,
                 u0: &u0,
                 theta0: 0.0,
@@ -197,12 +197,12 @@ fn through_an_impact_on_the_deformable_face_the_discrete_work_is_the_change_of_c
         let u1 = pressed(&mesh, first, d1, 1e-6, 10.0 + k as f64);
         let start = StepStart {
             u: &u0,
-            t: 0.0,
             data: &[],
             dissipation: 0.0,
         };
         let cx = StepContext {
             t: 0.01,
+            t0: 0.0,
             dt: 0.01,
             u0: &u0,
             theta0: 0.0,
@@ -269,12 +269,12 @@ fn a_point_that_crosses_the_end_of_the_face_keeps_the_discrete_work_equal_to_the
         let u1 = moved(&mesh, first, -3e-5, y1 - y, 10.0 + k as f64);
         let start = StepStart {
             u: &u0,
-            t: 0.0,
             data: &[],
             dissipation: 0.0,
         };
         let cx = StepContext {
             t: 0.01,
+            t0: 0.0,
             dt: 0.01,
             u0: &u0,
             theta0: 0.0,

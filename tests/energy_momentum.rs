@@ -54,6 +54,7 @@ fn elastic(mesh: &Mesh, model: MaterialModel, plane: Plane, youngs_modulus: f64)
 fn step_context(u0: &[f64], t0: f64, t1: f64) -> StepContext<'_> {
     StepContext {
         t: t1,
+        t0,
         dt: t1 - t0,
         u0,
         theta0: 0.0,
@@ -72,7 +73,6 @@ fn discrete_gradient(term: &dyn Term, u0: &[f64], t0: f64, u1: &[f64], t1: f64, 
     let data = term.discrete_start(&cx);
     let start = StepStart {
         u: u0,
-        t: t0,
         data: &data,
         dissipation: chi,
     };

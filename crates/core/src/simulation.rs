@@ -1079,6 +1079,7 @@ impl Simulation {
         let u0 = &self.state.u;
         let cx = StepContext {
             t: t_new,
+            t0,
             dt,
             u0,
             theta0: self.theta,
@@ -1101,7 +1102,6 @@ impl Simulation {
                 term,
                 start: StepStart {
                     u: u0,
-                    t: t0,
                     data,
                     dissipation: chi,
                 },
@@ -1157,6 +1157,7 @@ impl Simulation {
         let m = &self.model;
         let cx = StepContext {
             t: t_new,
+            t0: self.state.t,
             dt,
             u0: &self.state.u,
             theta0: self.theta,
@@ -1223,6 +1224,7 @@ impl Simulation {
                 let old = &self.state;
                 let cx = StepContext {
                     t: state.t,
+                    t0: old.t,
                     dt,
                     u0: &old.u,
                     theta0: self.theta,

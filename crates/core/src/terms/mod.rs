@@ -76,13 +76,13 @@ pub trait Term: Send + Sync {
     }
 
     /// The work \[J\] done on the body by this term's load over the step from the context's start
-    /// (`cx.u0` at `cx.t0()`) to `(u1, cx.t)`, for external loads whose energy is not part of the
+    /// (`cx.u0` at `cx.t0`) to `(u1, cx.t)`, for external loads whose energy is not part of the
     /// reported total (the torque). Default: 0.
     fn external_work(&self, _u1: &[f64], _cx: &StepContext) -> f64 {
         0.0
     }
 
-    /// Data of the start of a step (`cx.u0` at `cx.t0()`) that [`Term::add_discrete_gradient`] reads
+    /// Data of the start of a step (`cx.u0` at `cx.t0`) that [`Term::add_discrete_gradient`] reads
     /// on every call (the elastic term's strains and energies at the quadrature points). Default:
     /// none.
     fn discrete_start(&self, _cx: &StepContext) -> Vec<f64> {
@@ -128,6 +128,11 @@ pub fn dense_block(dofs: &[usize]) -> Vec<(usize, usize)> {
 pub struct StepContext<'a> {
     /// Time of the evaluated state \[s\].
     pub t: f64,
+    /// Time at the start of the step \[s\] (`t` for a state outside a step). Kept as the stepper
+    /// holds it, not recomputed as `t − dt`: `(t₀ + Δt) − Δt` can miss `t₀` by a rounding, and a
+    /// step torque switching on at a step's start was then on in the step's work and off in its
+    /// dynamics (half a step's work of the torque lost from the energy balance).
+    pub t0: f64,
     /// Length of the step \[s\] (0 for a state outside a step: the initial equilibrium, a report).
     pub dt: f64,
     /// Displacement at the start of the step \[m\].
@@ -144,16 +149,12 @@ impl<'a> StepContext<'a> {
     pub fn at(u: &'a [f64], t: f64, theta: f64, torque: Option<f64>) -> Self {
         Self {
             t,
+            t0: t,
             dt: 0.0,
             u0: u,
             theta0: theta,
             torque,
         }
-    }
-
-    /// Time at the start of the step \[s\].
-    pub fn t0(&self) -> f64 {
-        self.t - self.dt
     }
 }
 
@@ -162,8 +163,6 @@ impl<'a> StepContext<'a> {
 pub struct StepStart<'a> {
     /// Displacement at the start \[m\].
     pub u: &'a [f64],
-    /// Time at the start \[s\].
-    pub t: f64,
     /// What the term's [`Term::discrete_start`] returned for the start.
     pub data: &'a [f64],
     /// Numerical dissipation `χ ∈ [0, 1)` of the strain energy (see [`crate::energy_momentum`]);

@@ -483,7 +483,7 @@ impl Torque {
     pub fn angle_work(&self, u1: &[f64], cx: &StepContext) -> f64 {
         let th0 = self.start_angle(cx);
         let th1 = self.hub.angle_near(u1, th0);
-        0.5 * (self.moment_at(cx.t0(), cx) + self.moment_at(cx.t, cx)) * (th1 - th0)
+        0.5 * (self.moment_at(cx.t0, cx) + self.moment_at(cx.t, cx)) * (th1 - th0)
     }
 }
 
@@ -566,7 +566,7 @@ impl Term for Torque {
         g: &mut [f64],
     ) -> f64 {
         let u0 = start.u;
-        let (m0, m1) = (self.moment_at(start.t, cx), self.moment_at(cx.t, cx));
+        let (m0, m1) = (self.moment_at(cx.t0, cx), self.moment_at(cx.t, cx));
         let m_mean = 0.5 * (m0 + m1);
         match self.mode() {
             TorqueMode::Fixed => {
@@ -607,7 +607,7 @@ impl Term for Torque {
             return self.angle_work(u1, cx);
         }
         let u0 = cx.u0;
-        let f0 = self.local_force(u0, self.moment_at(cx.t0(), cx));
+        let f0 = self.local_force(u0, self.moment_at(cx.t0, cx));
         let f1 = self.local_force(u1, self.moment_at(cx.t, cx));
         self.dofs
             .iter()
