@@ -1068,8 +1068,13 @@ impl Simulation {
 
     /// One energy-momentum step ([`crate::energy_momentum`]).
     fn try_step_energy_momentum(&mut self, dt: f64) -> Result<(State, [f64; 2], usize), NewtonError> {
-        // inside a chattering impact, the extrapolation of its alternation, with a fresh tangent
-        let chatter = self.chatter_guess(dt);
+        // inside a chattering impact, the extrapolation of its alternation, with a fresh tangent;
+        // not where it would invert an element (a soft head crushed against the wall, after a
+        // cut-back), where the rigid turn of the current state serves
+        let chatter = self.chatter_guess(dt).filter(|guess| {
+            let cx = StepContext::at(guess, self.state.t + dt, self.theta, self.held_torque);
+            self.model.strain_energy(guess, &cx).is_finite()
+        });
         let fresh_tangent = chatter.is_some();
         let mut u = chatter.unwrap_or_else(|| self.rotational_guess(dt));
         let (t0, t_new) = (self.state.t, self.state.t + dt);
