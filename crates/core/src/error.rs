@@ -18,7 +18,8 @@ pub enum NewtonError {
         /// terms' forces and the hinge reaction \[N\] (see [`crate::newton::FORCE_ROUNDING`]).
         forces: f64,
     },
-    /// The tangent could not be factorised (not positive definite).
+    /// The tangent could not be factorised: not positive definite, and its `L D Lᵀ` met a zero
+    /// pivot (see [`crate::linsolve::Cholesky::factor`]).
     SingularTangent {
         /// Iteration at which it happened.
         iteration: usize,
@@ -53,7 +54,7 @@ impl fmt::Display for NewtonError {
             Self::SingularTangent { iteration } => {
                 write!(
                     f,
-                    "tangent matrix not positive definite at Newton iteration {iteration}"
+                    "tangent matrix singular at Newton iteration {iteration} (neither L Lᵀ nor L D Lᵀ factorises it)"
                 )
             }
             Self::NonFinite { iteration } => {

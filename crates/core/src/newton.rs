@@ -477,7 +477,7 @@ impl Solver {
             self.factor_frame = None;
             self.factored = None;
             return Err(Error::Input(
-                "factorisation state: the saved matrix is not positive definite".into(),
+                "factorisation state: the saved matrix does not factorise".into(),
             ));
         }
         self.finish_factor(state);
