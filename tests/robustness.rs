@@ -271,7 +271,8 @@ fn draw(seed: u64, index: usize) -> Case {
 /// time). Beside a second case, seed 18's case 5 then reaches t = 1.58 s of 1.707 s in 120 s,
 /// case 13 1.80 s of 1.882 s and seed 19's case 3 1.78 s (the impacts cost 20–30 s each); seed
 /// 20's and 21's soft heads (up to 24 MPa against k up to 7e12 N/m³, impacts of 8 ms in 75 µs
-/// sub-steps) reach 0.44–1.15 s. Case 12 fails with an indefinite tangent. Tried on them and
+/// sub-steps) reach 0.44–1.15 s. Case 12 fails with an indefinite tangent (since the `L D Lᵀ`
+/// fallback below, at 0.278 s with a line search that finds no decrease). Tried on them and
 /// not kept:
 /// - a Newton allowance extended past 20 iterations only while the distance to the criteria
 ///   kept falling fourfold every five iterations: the contact's iterations wander before they
@@ -316,12 +317,15 @@ fn draw(seed: u64, index: usize) -> Case {
 /// because the work recomputed the start time as `(t₀ + Δt) − Δt` (fixed, `StepContext::t0`);
 /// case 68 stopped with an inverted element at the chattering contact's extrapolated guess after
 /// a cut-back (the guess is now taken only where it inverts no element: the case finishes alone
-/// in 98.7 s, beside a second case it reaches 1.053 s of 1.093 s). Open: cases 31 and 33 (7 and
-/// 2.3 MPa heads pressed against a wall by a torque) fail with an indefinite tangent at cut-backs
-/// to 26–63 µs; cases 3, 18, 36 and 77 run past 120 s (case 18, an 821 MPa ring against the
-/// deformable wall at k = 1.1e12 N/m³: impact sub-steps of 6.8 µs, 191 of them in an impact
-/// lasting 18 times its estimated `τ`, and 37 cut-backs for indefinite tangents in the ringing
-/// after the blows; case 77 reached 1.638 s of 1.676 s).
+/// in 98.7 s, beside a second case it reaches 1.053 s of 1.093 s). Cases 31 and 33 (7 and 2.3 MPa
+/// heads pressed against a wall by a torque) failed with an indefinite tangent at cut-backs to
+/// 26–63 µs, and case 18 (an 821 MPa ring against the deformable wall at k = 1.1e12 N/m³) was cut
+/// back 37 times for it in the ringing after its blows: such a matrix is now factorised as
+/// `L D Lᵀ` (`linsolve::Cholesky::factor`). Then, beside a second case at the full limit: case 77
+/// passes (116.3 s; it had reached 1.638 s of 1.676 s), case 31 stops outside the model (its head
+/// comes round the deformable wall's face), case 33 runs past 120 s at 0.63 s of 2 s (46
+/// cut-backs), and cases 3, 18, 36 and 68 run past 120 s (case 18 without cut-backs, but with
+/// impact sub-steps of 6.8 µs, 191 of them in an impact lasting 18 times its estimated `τ`).
 const KNOWN_OPEN: &[(usize, &str)] = &[
     (
         0,
