@@ -43,7 +43,7 @@ pub struct Cholesky {
 
 /// The matrix could not be factorised: not positive definite, and a zero pivot in `L D Lᵀ`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct NotPositiveDefinite;
+pub struct Singular;
 
 /// Right-hand sides solved together at most.
 const MAX_RHS: usize = 3;
@@ -97,7 +97,7 @@ impl Cholesky {
     /// times to 0.2 s for it, halving until the inertia dominated; with `L D Lᵀ` none (15.8 s
     /// instead of 18.8 s, the same energy balance). A positive definite matrix takes `L Lᵀ` as
     /// before, bit for bit.
-    pub fn factor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), NotPositiveDefinite> {
+    pub fn factor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), Singular> {
         let a = SparseColMatRef::new(symbolic_ref(pattern), values);
         self.factored = false;
         let stack = MemStack::new(&mut self.mem);
@@ -126,7 +126,7 @@ impl Cholesky {
                     stack,
                     Default::default(),
                 )
-                .map_err(|_| NotPositiveDefinite)?;
+                .map_err(|_| Singular)?;
         }
         self.factored = true;
         Ok(())

@@ -130,8 +130,8 @@ pub struct StepContext<'a> {
     pub t: f64,
     /// Time at the start of the step \[s\] (`t` for a state outside a step). Kept as the stepper
     /// holds it, not recomputed as `t − dt`: `(t₀ + Δt) − Δt` can miss `t₀` by a rounding, and a
-    /// step torque switching on at a step's start was then on in the step's work and off in its
-    /// dynamics (half a step's work of the torque lost from the energy balance).
+    /// step torque switching on at a step's start was then off in the step's work and on in its
+    /// dynamics (half a step's work of the torque missing from the energy balance).
     pub t0: f64,
     /// Length of the step \[s\] (0 for a state outside a step: the initial equilibrium, a report).
     pub dt: f64,
