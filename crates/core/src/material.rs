@@ -312,6 +312,14 @@ impl Material {
     /// For `J ≤ 0` the energy is `+∞` and stress and tangent are zero.
     #[allow(non_snake_case)]
     pub fn stress_tangent(&self, F: &VecF) -> StressTangent {
+        self.stress_tangent_of(F, true)
+    }
+
+    /// [`Material::stress_tangent`], with the energy left at 0 for an admissible `F` unless
+    /// `with_energy` (a Hessian alone does not need it, and for the Neo-Hookean law it costs a
+    /// power function of its own).
+    #[allow(non_snake_case)]
+    pub fn stress_tangent_of(&self, F: &VecF, with_energy: bool) -> StressTangent {
         let J = det(F);
         if J <= 0.0 {
             return StressTangent {
@@ -328,7 +336,11 @@ impl Material {
                 let jk1 = jk / J; // J^(−k−1)
                 let jk2 = jk1 / J; // J^(−k−2)
                 let c = cofactor(F);
-                let energy = self.strain_energy(&green_strain(F)).0;
+                let energy = if with_energy {
+                    self.strain_energy(&green_strain(F)).0
+                } else {
+                    0.0
+                };
                 let stress = [0, 1, 2, 3].map(|v| mu * (F[v] - jk1 * c[v]));
                 let mut tangent = [[0.0; 4]; 4];
                 let a = mu * (k + 1.0) * jk2;

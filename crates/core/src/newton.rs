@@ -329,6 +329,19 @@ impl Solver {
         phi
     }
 
+    /// The Hessian alone at `u` into `self.k`, where `self.g` already holds the gradient at `u`
+    /// (each term's `assemble` adds exactly its `add_hessian` and its `energy_gradient`, so the
+    /// gradient is the one a full [`Solver::assemble`] would make, bit for bit).
+    fn assemble_hessian(&mut self, pattern: &Pattern, terms: &[&dyn Term], u: &[f64], cx: &StepContext) {
+        let start = std::time::Instant::now();
+        self.k.iter_mut().for_each(|x| *x = 0.0);
+        for term in terms {
+            term.add_hessian(u, cx, pattern, &mut self.k);
+        }
+        self.fixed.apply_matrix(&mut self.k);
+        self.timings.assembly += start.elapsed().as_secs_f64();
+    }
+
     /// The residual a converged state must reach: `residual_tolerance × load_scale`, but never
     /// below the rounding level of the residual itself, `ROUNDING_FACTOR · ε · max diag K · length_scale`
     /// (internal forces are differences of terms of size `K |x|`; on fine meshes the nodal loads
@@ -915,10 +928,18 @@ impl Solver {
         // whether an iteration of this solve contracted the residual by less than SLOW_CONTRACTION
         let mut slow = false;
         let mut watchdog = Watchdog::new(u, *lambda, r_prev);
+        // whether `self.g` holds the gradient at `u` (not at a trial point the line search left,
+        // nor at a point the watchdog left): a tangent made at `u` then needs only the Hessian
+        let mut gradient_at_u = true;
         while iteration < settings.max_iterations {
             iteration += 1;
             if need_factor {
-                self.assemble(pattern, terms, u, cx);
+                if gradient_at_u {
+                    self.assemble_hessian(pattern, terms, u, cx);
+                } else {
+                    self.assemble(pattern, terms, u, cx);
+                    gradient_at_u = true;
+                }
                 self.factorize(pattern, settings, iteration, &mut report)?;
                 need_factor = false;
                 factor_at_u = true;
@@ -992,6 +1013,7 @@ impl Solver {
                 }
                 // a reused factorisation led astray: redo the iteration with the tangent at u
                 need_factor = true;
+                gradient_at_u = false;
                 continue;
             };
             u.copy_from_slice(&self.trial);
@@ -1000,7 +1022,7 @@ impl Solver {
                 u.copy_from_slice(&watchdog.u);
                 *lambda = watchdog.lambda;
                 r_prev = watchdog.residual;
-                (need_factor, factor_at_u) = (true, false);
+                (need_factor, factor_at_u, gradient_at_u) = (true, false, false);
                 continue;
             }
             report.step_lengths.push(step);

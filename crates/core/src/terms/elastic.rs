@@ -82,8 +82,9 @@ impl Elastic {
         deformation_gradient(&self.triangles[e], grads, u)
     }
 
-    /// Energy, gradient and tangent of one element.
-    fn element(&self, e: usize, u: &[f64]) -> ElementOut {
+    /// Energy (0 unless `with_energy`, `+∞` for an inverted element either way), gradient and
+    /// tangent of one element.
+    fn element(&self, e: usize, u: &[f64], with_energy: bool) -> ElementOut {
         let nq = self.cache.points_per_element;
         let mut out = ElementOut {
             energy: 0.0,
@@ -98,7 +99,7 @@ impl Elastic {
                 energy,
                 stress: p,
                 tangent: a,
-            } = self.material.stress_tangent(&f);
+            } = self.material.stress_tangent_of(&f, with_energy);
             if !energy.is_finite() {
                 out.energy = f64::INFINITY;
                 return out;
@@ -215,9 +216,11 @@ impl Elastic {
         self.gather(1.0, g, |e| self.element_gradient(e, u))
     }
 
-    /// Energy and tangent (and the gradient when `g` is given) of the whole body.
+    /// Tangent of the whole body, and with `g` its energy and gradient (without `g` the returned
+    /// energy is 0, or `+∞` where an element is inverted: the Hessian alone skips the energy).
     fn run(&self, u: &[f64], mut g: Option<&mut [f64]>, pattern: &Pattern, values: &mut [f64]) -> f64 {
         let ne = self.triangles.len();
+        let with_energy = g.is_some();
         let mut energy = 0.0;
         let mut buffer: Vec<ElementOut> = Vec::new();
         let mut start = 0;
@@ -226,7 +229,7 @@ impl Elastic {
             buffer.clear();
             (start..end)
                 .into_par_iter()
-                .map(|e| self.element(e, u))
+                .map(|e| self.element(e, u, with_energy))
                 .collect_into_vec(&mut buffer);
             for (i, out) in buffer.iter().enumerate() {
                 let e = start + i;
