@@ -51,6 +51,9 @@ fn out_of_range_values_name_the_key_and_the_allowed_range() {
         ("time.dt=0", "time.dt"),
         ("geometry.hole_radius=0.07", "geometry.hole_radius"),
         ("mesh.order=3", "mesh.order"),
+        ("solver.max_cutbacks=31", "solver.max_cutbacks"),
+        ("solver.max_cutbacks=-1", "solver.max_cutbacks"),
+        ("solver.max_cutbacks=often", "solver.max_cutbacks"),
     ] {
         let o = bin().args(["run", "--set", set]).output().unwrap();
         assert!(!o.status.success(), "{set} accepted");
@@ -114,6 +117,57 @@ fn a_failing_step_names_step_time_and_residual_keeps_the_rows_and_writes_plots_a
         status.error.as_deref().unwrap_or("").contains("time step 1"),
         "{status:?}"
     );
+}
+
+/// The smallest step length a failed run tried, from its error message.
+fn smallest_dt_tried(msg: &str) -> f64 {
+    let tail = msg
+        .split("smallest dt tried ")
+        .nth(1)
+        .expect("the failure names its smallest step");
+    tail.split_whitespace().next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn a_failing_step_is_halved_down_to_the_meshs_wave_time_by_default_and_exactly_as_often_as_a_count_says() {
+    let dir = scratch("cutbacks");
+    // every step fails (an energy tolerance no update reaches, one iteration): the error names the
+    // shortest step tried
+    let failing = |extra: &[&str], out: &str| {
+        let o = bin()
+            .args([
+                "run",
+                "--quiet",
+                "--set",
+                "solver.max_iterations=1",
+                "--set",
+                "solver.tolerance=1e-300",
+            ])
+            .args(["--set", "initial.elastic=undeformed", "--set", "time.dt=0.01"])
+            .args(extra.iter().flat_map(|s| ["--set", s]))
+            .arg("--out")
+            .arg(dir.join(out))
+            .output()
+            .unwrap();
+        assert!(!o.status.success(), "{extra:?} ran");
+        smallest_dt_tried(&stderr(&o))
+    };
+    let config = pendulum_fem::Config::default();
+    let mesh = pendulum_fem::mesh::generate(&config).unwrap();
+    let wave = pendulum_fem::Model::new(&config, mesh).unwrap().wave_time();
+    // steel: a pressure wave of about 5 km/s crosses the tutorial mesh's thinnest element (at half
+    // its altitude) in well under a microsecond
+    assert!(wave > 1e-9 && wave < 1e-6, "wave time {wave:e} s");
+    // "auto": halved until the step is no longer than the wave time, so the last one lies in
+    // (wave/2, wave]: halving is exact in binary, the bound allows only the comparison's rounding
+    let auto = failing(&[], "auto");
+    assert!(
+        auto <= wave * (1.0 + 1e-12) && auto > 0.5 * wave,
+        "{auto:e} s against {wave:e} s"
+    );
+    // a count: exactly that many halvings, 0.01 / 2³
+    let three = failing(&["solver.max_cutbacks=3"], "three");
+    assert_eq!(three, 0.01 / 8.0);
 }
 
 #[test]

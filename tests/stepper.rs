@@ -121,7 +121,7 @@ fn a_failed_step_leaves_the_state_as_it_was_and_a_retry_is_the_clean_step() {
         let solver = failing.model.config.solver.clone();
         failing.model.config.solver.tolerance = 0.0;
         failing.model.config.solver.max_iterations = 3;
-        failing.model.config.solver.max_cutbacks = 2;
+        failing.model.config.solver.max_cutbacks = pendulum_fem::config::Cutbacks::Count(2);
         let err = failing.step(0.02).unwrap_err();
         assert!(matches!(err, Error::TimeStep { step: 11, .. }), "{err}");
         assert_eq!(

@@ -383,6 +383,10 @@ impl Instance {
                     _ => format!("{key}={}", value as i64),
                 }),
                 Role::ThetaStart => sets.push(format!("initial.angle_deg={:?}", value.to_degrees())),
+                Role::MaxCutbacks => sets.push(match value as i64 {
+                    -1 => "solver.max_cutbacks=\"auto\"".to_string(),
+                    count => format!("solver.max_cutbacks={count}"),
+                }),
                 Role::WallKind => sets.push(match value as i64 {
                     0 => "wall.kind=\"none\"".to_string(),
                     1 => "wall.kind=\"rigid\"".to_string(),

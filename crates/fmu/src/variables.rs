@@ -61,6 +61,8 @@ pub enum Role {
     ThetaStart,
     /// The wall: 0 none, 1 rigid, 2 deformable (`wall.kind`).
     WallKind,
+    /// `solver.max_cutbacks`: −1 for `"auto"`, otherwise the count.
+    MaxCutbacks,
     /// The largest internal step of `fmi2DoStep` \[s\].
     MaxInternalStep,
     /// The actuator torque input \[N m\].
@@ -388,13 +390,16 @@ pub const VARIABLES: &[Variable] = &[
         description: "The wall: 0 none, 1 rigid (the half-plane x <= wall_x), 2 the tutorial's deformable block",
         role: Role::WallKind,
     },
-    integer(
-        "solver_max_cutbacks",
-        42,
-        6.0,
-        "Times a failing step may be halved",
-        "solver.max_cutbacks",
-    ),
+    Variable {
+        name: "solver_max_cutbacks",
+        vr: 42,
+        kind: Kind::Integer,
+        causality: Causality::Parameter,
+        unit: None,
+        start: Some(-1.0),
+        description: "Times a failing step may be halved, 0 to 30; -1 (auto): down to the mesh's wave time",
+        role: Role::MaxCutbacks,
+    },
 ];
 
 /// The model identifier: the shared object is `binaries/linux64/PendulumFem.so`.

@@ -76,6 +76,33 @@ struct Makeup<'a> {
 }
 
 impl Body {
+    /// The time a pressure wave of the undeformed material takes to cross the body's thinnest
+    /// element at its node spacing \[s\]: half the smallest altitude of a triangle (quadratic
+    /// elements have a node at each edge's midpoint) over `c_p = √((λ + 2μ)/ρ)` with the Lamé
+    /// parameters of the 2-D law (plane stress or strain). A step this short resolves the fastest
+    /// motion the mesh carries, and the inertia `M/Δt²` of its Newton matrix outweighs the
+    /// elements' stiffness (see [`crate::config::Cutbacks`]).
+    pub fn wave_time(&self) -> f64 {
+        let nodes = &self.mesh.nodes;
+        let thinnest = self
+            .mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = [nodes[t[0]], nodes[t[1]], nodes[t[2]]];
+                let area2 = ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs();
+                let longest = [(a, b), (b, c), (c, a)]
+                    .iter()
+                    .map(|(p, q)| (q[0] - p[0]).hypot(q[1] - p[1]))
+                    .fold(0.0, f64::max);
+                area2 / longest
+            })
+            .fold(f64::INFINITY, f64::min);
+        let m = &self.material;
+        let speed = ((m.lambda + 2.0 * m.mu) / self.density).sqrt();
+        0.5 * thinnest / speed
+    }
+
     /// Builds a body on its `view` of the model's mesh.
     fn new(name: &str, view: Mesh, nodes: Range<usize>, first_element: usize, makeup: Makeup) -> Result<Self, Error> {
         let Makeup {
