@@ -66,27 +66,8 @@ fn out_of_range_values_name_the_key_and_the_allowed_range() {
 fn a_failing_step_names_step_time_and_residual_keeps_the_rows_and_writes_plots_and_status() {
     let dir = scratch("fail");
     let out = dir.join("out");
-    // an energy tolerance no update can reach, one iteration, no cut-back: step 1 must fail
-    // (undeformed start, so the initial equilibrium solve is not involved)
-    let o = bin()
-        .args([
-            "run",
-            "--quiet",
-            "--set",
-            "solver.max_iterations=1",
-            "--set",
-            "solver.max_cutbacks=0",
-        ])
-        .args([
-            "--set",
-            "solver.tolerance=1e-300",
-            "--set",
-            "initial.elastic=undeformed",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
+    // no cut-back: step 1 must fail
+    let o = run_failing_every_step(&["solver.max_cutbacks=0"], &out);
     assert!(!o.status.success());
     let msg = stderr(&o);
     assert!(
@@ -119,6 +100,25 @@ fn a_failing_step_names_step_time_and_residual_keeps_the_rows_and_writes_plots_a
     );
 }
 
+/// `pendulum-fem run` with `--set` of each of `extra`, on settings where every step fails: an
+/// energy tolerance no update can reach and one Newton iteration, from an undeformed start (so
+/// the initial equilibrium solve is not involved).
+fn run_failing_every_step(extra: &[&str], out: &std::path::Path) -> Output {
+    bin()
+        .args(["run", "--quiet", "--set", "solver.max_iterations=1"])
+        .args([
+            "--set",
+            "solver.tolerance=1e-300",
+            "--set",
+            "initial.elastic=undeformed",
+        ])
+        .args(extra.iter().flat_map(|s| ["--set", s]))
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
 /// The smallest step length a failed run tried, from its error message.
 fn smallest_dt_tried(msg: &str) -> f64 {
     let tail = msg
@@ -131,24 +131,9 @@ fn smallest_dt_tried(msg: &str) -> f64 {
 #[test]
 fn a_failing_step_is_halved_down_to_the_meshs_wave_time_by_default_and_exactly_as_often_as_a_count_says() {
     let dir = scratch("cutbacks");
-    // every step fails (an energy tolerance no update reaches, one iteration): the error names the
-    // shortest step tried
+    // every step fails: the error names the shortest step tried
     let failing = |extra: &[&str], out: &str| {
-        let o = bin()
-            .args([
-                "run",
-                "--quiet",
-                "--set",
-                "solver.max_iterations=1",
-                "--set",
-                "solver.tolerance=1e-300",
-            ])
-            .args(["--set", "initial.elastic=undeformed", "--set", "time.dt=0.01"])
-            .args(extra.iter().flat_map(|s| ["--set", s]))
-            .arg("--out")
-            .arg(dir.join(out))
-            .output()
-            .unwrap();
+        let o = run_failing_every_step(&[extra, &["time.dt=0.01"]].concat(), &dir.join(out));
         assert!(!o.status.success(), "{extra:?} ran");
         smallest_dt_tried(&stderr(&o))
     };

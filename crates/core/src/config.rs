@@ -591,21 +591,17 @@ impl Cutbacks {
     /// The largest count (2⁻³⁰ of a step).
     pub const MAX: usize = 30;
 
+    /// The message refusing `value` for `solver.max_cutbacks`.
+    fn refusal(value: impl std::fmt::Display) -> String {
+        format!("solver.max_cutbacks = {value}: allowed \"auto\" or 0 to {}", Self::MAX)
+    }
+
     /// Whether a failed step of length `dt`, already halved `depth` times, may be halved again, with
     /// the mesh's wave time `wave_time` \[s\].
     pub fn allows(self, depth: usize, dt: f64, wave_time: f64) -> bool {
         match self {
             Self::Count(n) => depth < n,
             Self::Auto => depth < Self::AUTO_MIN || (dt > wave_time && depth < Self::MAX),
-        }
-    }
-}
-
-impl std::fmt::Display for Cutbacks {
-    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        match self {
-            Self::Auto => write!(f, "\"auto\""),
-            Self::Count(n) => write!(f, "{n}"),
         }
     }
 }
@@ -627,26 +623,21 @@ impl<'de> Deserialize<'de> for Cutbacks {
             fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
                 write!(f, "\"auto\" or a count from 0 to {}", Cutbacks::MAX)
             }
+            // a count's range is checked with the other rules ([`Solver::validate`])
             fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Cutbacks, E> {
-                match usize::try_from(v) {
-                    Ok(n) if n <= Cutbacks::MAX => Ok(Cutbacks::Count(n)),
-                    _ => Err(E::custom(format!(
-                        "solver.max_cutbacks = {v}: allowed \"auto\" or 0 to {}",
-                        Cutbacks::MAX
-                    ))),
-                }
+                usize::try_from(v)
+                    .map(Cutbacks::Count)
+                    .map_err(|_| E::custom(Cutbacks::refusal(v)))
             }
             fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Cutbacks, E> {
-                self.visit_i64(i64::try_from(v).unwrap_or(i64::MAX))
+                usize::try_from(v)
+                    .map(Cutbacks::Count)
+                    .map_err(|_| E::custom(Cutbacks::refusal(v)))
             }
             fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Cutbacks, E> {
-                if v == "auto" {
-                    Ok(Cutbacks::Auto)
-                } else {
-                    Err(E::custom(format!(
-                        "solver.max_cutbacks = {v:?}: allowed \"auto\" or 0 to {}",
-                        Cutbacks::MAX
-                    )))
+                match v {
+                    "auto" => Ok(Cutbacks::Auto),
+                    _ => Err(E::custom(Cutbacks::refusal(format!("{v:?}")))),
                 }
             }
         }
@@ -687,10 +678,7 @@ impl Solver {
         }
         if let Cutbacks::Count(n) = s.max_cutbacks {
             if n > Cutbacks::MAX {
-                return Err(Error::Config(format!(
-                    "solver.max_cutbacks = {n}: allowed \"auto\" or 0 to {}",
-                    Cutbacks::MAX
-                )));
+                return Err(Error::Config(Cutbacks::refusal(n)));
             }
         }
         Ok(())

@@ -1227,8 +1227,8 @@ impl Simulation {
     }
 
     /// Advances by `dt`, halving on failure; returns the Newton iterations used.
-    fn advance_by(&mut self, dt: f64, depth: usize) -> Result<usize, (NewtonError, f64)> {
-        self.advance_split(dt, depth, depth).map(|(its, _)| its)
+    fn advance_by(&mut self, dt: f64) -> Result<usize, (NewtonError, f64)> {
+        self.advance_split(dt, 0, 0).map(|(its, _)| its)
     }
 
     /// [`Simulation::advance_by`] of the interval `dt` at cut-back depth `depth` (halved that many
@@ -1330,7 +1330,7 @@ impl Simulation {
         } else {
             for _ in 0..substeps {
                 let u0 = self.model.wall.is_some().then(|| self.state.u.clone());
-                its += self.advance_by(h, 0).map_err(failed(self.step + 1))?;
+                its += self.advance_by(h).map_err(failed(self.step + 1))?;
                 if let Some(u0) = u0 {
                     self.check_contact_step(self.step + 1, t0, &u0)?;
                     self.contact_step_ends(&u0, h);

@@ -218,7 +218,7 @@ impl Simulation {
             let h = if remaining - h < 1e-6 * dt { remaining } else { h };
             let apart = !wall.in_contact(&s.u);
             let before = self.rollback_point();
-            its += self.advance_by(h, 0).map_err(failed)?;
+            its += self.advance_by(h).map_err(failed)?;
             let u0 = &before.snapshot.state.u;
             self.check_contact_step(step, t0, u0)?;
             let wall = self.model.wall.as_ref().expect("checked");
@@ -227,7 +227,7 @@ impl Simulation {
                 let crossing = wall.first_crossing(u0, &self.state.u).unwrap_or(1.0);
                 if crossing > 1e-3 && crossing < 1.0 {
                     self.roll_back(&before);
-                    its += self.advance_by(crossing * h, 0).map_err(failed)?;
+                    its += self.advance_by(crossing * h).map_err(failed)?;
                     self.check_contact_step(step, t0, u0)?;
                     self.begin_contact();
                 } else {
