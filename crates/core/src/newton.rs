@@ -872,7 +872,13 @@ impl Solver {
     /// by GMRES on the Newton equation with the system's own Jacobian, applied by differences of
     /// the gradient and preconditioned by the same factorisation (at most [`KRYLOV_DIMENSION`]
     /// products, to [`KRYLOV_TOLERANCE`]): the contraction becomes 1e-4–1e-3.
-    // the system (pattern, terms, time), the unknowns (u, λ), the settings and the energy check
+    ///
+    /// With `correct` false the updates are never corrected: a step's last attempt, where a
+    /// failure is no longer cut back, goes without the correction (its updates can reach a state
+    /// whose tangent is indefinite, or stall, where the plain iteration goes on: a soft head,
+    /// seed 18's case 12 of `tests/robustness.rs`; see [`crate::simulation::Simulation::step`]).
+    // the system (pattern, terms, time), the unknowns (u, λ), the settings, the energy check and
+    // whether to correct
     #[allow(clippy::too_many_arguments)]
     pub fn solve(
         &mut self,
@@ -883,37 +889,7 @@ impl Solver {
         lambda: &mut [f64; 2],
         settings: &NewtonSettings,
         energy: Option<(&[f64], f64)>,
-    ) -> Result<NewtonReport, NewtonError> {
-        let (u_start, lambda_start) = (u.to_vec(), *lambda);
-        let mut corrected = false;
-        let first = self.solve_from(pattern, terms, cx, (u, lambda), settings, energy, Some(&mut corrected));
-        match first {
-            // the corrected updates can lead to a state whose tangent is indefinite, or stall,
-            // where the plain iteration goes on (a soft head, seed 18's case 12): the step is
-            // solved again from its start without them before it counts as failed
-            Err(_) if corrected => {
-                u.copy_from_slice(&u_start);
-                *lambda = lambda_start;
-                self.solve_from(pattern, terms, cx, (u, lambda), settings, energy, None)
-            }
-            result => result,
-        }
-    }
-
-    /// [`Solver::solve`] from `u`, with the GMRES correction when `corrected` is given (set when
-    /// a correction was made).
-    // the system (pattern, terms, time), the unknowns (u, λ), the settings, the energy check and
-    // the correction's flag
-    #[allow(clippy::too_many_arguments)]
-    fn solve_from(
-        &mut self,
-        pattern: &Pattern,
-        terms: &[&dyn Term],
-        cx: &StepContext,
-        (u, lambda): (&mut [f64], &mut [f64; 2]),
-        settings: &NewtonSettings,
-        energy: Option<(&[f64], f64)>,
-        mut corrected: Option<&mut bool>,
+        correct: bool,
     ) -> Result<NewtonReport, NewtonError> {
         let n = pattern.n;
         let mut report = NewtonReport::default();
@@ -947,7 +923,7 @@ impl Solver {
             let (frame, _) = self.factor_frame.expect("a factorisation exists");
             let dphi = wrap_angle(settings.frame_angle - frame);
             let (mut du, mut lam, decrement) = self.constrained_solve(u, dphi, settings.residual_turn);
-            if let (true, Some(flag)) = (slow, corrected.as_deref_mut()) {
+            if slow && correct {
                 if let Some((d, l)) = self.krylov_refine(
                     terms,
                     cx,
@@ -957,7 +933,6 @@ impl Solver {
                     settings.length_scale,
                 ) {
                     (du, lam) = (d, l);
-                    *flag = true;
                 }
             }
             report.iterations = iteration;

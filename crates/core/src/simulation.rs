@@ -1073,8 +1073,9 @@ impl Simulation {
         guess
     }
 
-    /// One energy-momentum step ([`crate::energy_momentum`]).
-    fn try_step_energy_momentum(&mut self, dt: f64) -> Result<(State, [f64; 2], usize), NewtonError> {
+    /// One energy-momentum step ([`crate::energy_momentum`]); `correct`: whether Newton may
+    /// correct slow iterations by GMRES ([`Solver::solve`]).
+    fn try_step_energy_momentum(&mut self, dt: f64, correct: bool) -> Result<(State, [f64; 2], usize), NewtonError> {
         // inside a chattering impact, the extrapolation of its alternation, with a fresh tangent;
         // not where it would invert an element (a soft head crushed against the wall, after a
         // cut-back), where the rigid turn of the current state serves
@@ -1153,15 +1154,19 @@ impl Simulation {
             &mut lambda,
             &settings,
             Some((u0, energy_bound)),
+            correct,
         )?;
         let new_state = EnergyMomentum::correct(dt, &self.state, u);
         self.total_factorizations += report.factorizations;
         Ok((new_state, lambda.map(|l| 0.5 * l), report.iterations))
     }
 
-    fn try_step(&mut self, dt: f64) -> Result<(State, [f64; 2], usize), NewtonError> {
+    /// One step of length `dt` from the current state (not taken: the new state, the hinge
+    /// multipliers and the Newton iterations); `correct` as in [`Simulation::try_step_energy_momentum`]
+    /// (the Newmark schemes minimise and never correct).
+    fn try_step(&mut self, dt: f64, correct: bool) -> Result<(State, [f64; 2], usize), NewtonError> {
         if self.model.scheme == Scheme::EnergyMomentum {
-            return self.try_step_energy_momentum(dt);
+            return self.try_step_energy_momentum(dt, correct);
         }
         let mut u = self.rotational_guess(dt);
         let t_new = self.state.t + dt;
@@ -1237,7 +1242,8 @@ impl Simulation {
     ///
     /// Why a halved interval's second half starts at the depth its first half ended at, and not
     /// with an attempt at its own length: a failed attempt runs out of Newton iterations (up to
-    /// twice `solver.max_iterations`, with and without the GMRES correction), ten times the cost
+    /// `solver.max_iterations`; at the last depth a second attempt without the GMRES correction,
+    /// see [`Solver::solve`]), ten times the cost
     /// of a sub-step that converges. Where a local event needs sub-steps seven halvings down
     /// (seed 18's case 12 of `tests/robustness.rs`, see [`crate::config::Cutbacks`]), retrying
     /// every level on the way back up made 127 failed attempts per output step beside its 128
@@ -1245,7 +1251,19 @@ impl Simulation {
     fn advance_split(&mut self, dt: f64, depth: usize, start: usize) -> Result<(usize, usize), (NewtonError, f64)> {
         if depth >= start {
             let rates = (self.state.t, self.angular_rates().1);
-            match self.try_step(dt) {
+            let halvable = self
+                .model
+                .config
+                .solver
+                .max_cutbacks
+                .allows(depth, dt, self.model.wave_time());
+            // where no halving is left, the step is tried once more without the GMRES correction
+            // (see `Solver::solve`)
+            let attempt = match self.try_step(dt, true) {
+                Err(_) if !halvable && self.model.scheme == Scheme::EnergyMomentum => self.try_step(dt, false),
+                attempt => attempt,
+            };
+            match attempt {
                 Ok((state, lambda, its)) => {
                     self.previous_alpha = Some(rates);
                     self.rates = None;
@@ -1269,16 +1287,7 @@ impl Simulation {
                     self.theta = self.unwrap.next(self.model.projection.angle(&self.state.u));
                     return Ok((its, depth));
                 }
-                Err(_)
-                    if self
-                        .model
-                        .config
-                        .solver
-                        .max_cutbacks
-                        .allows(depth, dt, self.model.wave_time()) =>
-                {
-                    self.cutbacks += 1;
-                }
+                Err(_) if halvable => self.cutbacks += 1,
                 Err(e) => return Err((e, dt)),
             }
         }
