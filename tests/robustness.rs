@@ -373,7 +373,11 @@ fn draw(seed: u64, index: usize) -> Case {
 /// - GMRES with 8 products instead of 4 (`newton::KRYLOV_DIMENSION`): case 104 to 0.16 s in
 ///   35 s instead of 45 s (1020 iterations and 15 cut-backs instead of 1484 and 30), but 2–7 %
 ///   slower on seed 18's case 12 and on seed 25's cases 8, 63, 70 and 99 to 0.5 s; 16 products:
-///   80 s instead of 53 s on case 12. Without the correction case 104 takes twice as long.
+///   80 s instead of 53 s on case 12. Without the correction case 104 takes twice as long;
+/// - no reused factorisation for the rest of a solve once a reused one led astray (it is refused
+///   in about half of its trials inside a soft head's impact, each refusal an iteration): case
+///   104 to 0.16 s in 66.6 s instead of 56.7 s, seed 18's case 12 to 0.34 s in 71.0 s instead
+///   of 60.6 s (paired runs; more cut-backs in the latter, 42 instead of 36).
 const KNOWN_OPEN: &[(usize, &str)] = &[
     (
         0,
