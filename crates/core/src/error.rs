@@ -38,6 +38,18 @@ pub enum NewtonError {
     },
 }
 
+impl NewtonError {
+    /// The iterations (linear solves) the failed solve made.
+    pub fn iterations(&self) -> usize {
+        match *self {
+            Self::MaxIterations { iterations, .. } => iterations,
+            Self::SingularTangent { iteration }
+            | Self::NonFinite { iteration }
+            | Self::LineSearch { iteration, .. } => iteration,
+        }
+    }
+}
+
 impl fmt::Display for NewtonError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

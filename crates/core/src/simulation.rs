@@ -1238,7 +1238,8 @@ impl Simulation {
 
     /// [`Simulation::advance_by`] of the interval `dt` at cut-back depth `depth` (halved that many
     /// times), split without an attempt down to `start` (the depth the sub-step before it was
-    /// taken at); returns the Newton iterations and the depth of its last sub-step.
+    /// taken at); returns the Newton iterations (those of the attempts that failed and were
+    /// halved included) and the depth of its last sub-step.
     ///
     /// Why a halved interval's second half starts at the depth its first half ended at, and not
     /// with an attempt at its own length: a failed attempt runs out of Newton iterations (up to
@@ -1249,6 +1250,8 @@ impl Simulation {
     /// every level on the way back up made 127 failed attempts per output step beside its 128
     /// sub-steps; now 7. The next output step starts again at its full length.
     fn advance_split(&mut self, dt: f64, depth: usize, start: usize) -> Result<(usize, usize), (NewtonError, f64)> {
+        // the iterations of the attempts at this interval that failed
+        let mut failed = 0;
         if depth >= start {
             let rates = (self.state.t, self.angular_rates().1);
             let halvable = self
@@ -1260,7 +1263,10 @@ impl Simulation {
             // where no halving is left, the step is tried once more without the GMRES correction
             // (see `Solver::solve`)
             let attempt = match self.try_step(dt, true) {
-                Err(_) if !halvable && self.model.scheme == Scheme::EnergyMomentum => self.try_step(dt, false),
+                Err(e) if !halvable && self.model.scheme == Scheme::EnergyMomentum => {
+                    failed = e.iterations();
+                    self.try_step(dt, false)
+                }
                 attempt => attempt,
             };
             match attempt {
@@ -1285,15 +1291,18 @@ impl Simulation {
                     self.lambda = lambda;
                     // the branch of θ for the next (sub)step's context
                     self.theta = self.unwrap.next(self.model.projection.angle(&self.state.u));
-                    return Ok((its, depth));
+                    return Ok((failed + its, depth));
                 }
-                Err(_) if halvable => self.cutbacks += 1,
+                Err(e) if halvable => {
+                    self.cutbacks += 1;
+                    failed = e.iterations();
+                }
                 Err(e) => return Err((e, dt)),
             }
         }
         let (a, last) = self.advance_split(0.5 * dt, depth + 1, start)?;
         let (b, last) = self.advance_split(0.5 * dt, depth + 1, last)?;
-        Ok((a + b, last))
+        Ok((failed + a + b, last))
     }
 
     /// Advances one step of `time.dt` ([`Simulation::step`]) and returns its record (with the

@@ -163,8 +163,8 @@ impl Simulation {
         self.theta
     }
 
-    /// Newton iterations (linear solves) of the last step, sub-steps and cut-backs included (0
-    /// before the first step).
+    /// Newton iterations (linear solves) of the last step: its sub-steps, and the attempts that
+    /// failed and were halved (0 before the first step).
     pub fn last_newton_iterations(&self) -> usize {
         self.last_iterations
     }
