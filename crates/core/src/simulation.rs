@@ -1254,21 +1254,23 @@ impl Simulation {
         let mut failed = 0;
         if depth >= start {
             let rates = (self.state.t, self.angular_rates().1);
-            let halvable = self
-                .model
-                .config
-                .solver
-                .max_cutbacks
-                .allows(depth, dt, self.model.wave_time());
+            let mut attempt = self.try_step(dt, true);
+            // asked only on a failure: the wave time goes over every element
+            let halvable = attempt.is_err()
+                && self
+                    .model
+                    .config
+                    .solver
+                    .max_cutbacks
+                    .allows(depth, dt, self.model.wave_time());
             // where no halving is left, the step is tried once more without the GMRES correction
             // (see `Solver::solve`)
-            let attempt = match self.try_step(dt, true) {
-                Err(e) if !halvable && self.model.scheme == Scheme::EnergyMomentum => {
+            if let Err(e) = &attempt {
+                if !halvable && self.model.scheme == Scheme::EnergyMomentum {
                     failed = e.iterations();
-                    self.try_step(dt, false)
+                    attempt = self.try_step(dt, false);
                 }
-                attempt => attempt,
-            };
+            }
             match attempt {
                 Ok((state, lambda, its)) => {
                     self.previous_alpha = Some(rates);
