@@ -199,6 +199,7 @@ fn sweep(args: SweepArgs) -> Result<ExitCode, Error> {
         let opts = CaseOptions {
             threads: args.threads,
             stop: Some(stop),
+            observers: vec![pendulum_fem::render::pictures::attach()],
         };
         let row = sw::run_case_index(&study, &args.out, k, args.resume, &opts)?;
         let dir = sw::case_dir(&args.out, k);
@@ -356,7 +357,7 @@ fn load(args: &ConfigArgs) -> Result<Config, Error> {
     Config::load(args.config.as_deref(), &args.set)
 }
 
-fn print_impacts(i: &pendulum_fem::io::impacts::ImpactSummary) {
+fn print_impacts(i: &pendulum_fem::run::impacts::ImpactSummary) {
     let every = i
         .mean_interval
         .map_or(String::new(), |t| format!(", one every {t:.4} s on average"));
@@ -458,12 +459,12 @@ fn run(args: RunArgs) -> Result<bool, Error> {
     }
     let config = match &args.restart {
         Some(dir) => {
-            let file = dir.join(pendulum_fem::commands::run::CHECKPOINT_TOML);
+            let file = dir.join(pendulum_fem::commands::run::checkpoint::CHECKPOINT_TOML);
             if !file.is_file() {
                 return Err(Error::Input(format!(
                     "run --restart {}: no {} there (a run writes it with --checkpoint-every N)",
                     dir.display(),
-                    pendulum_fem::commands::run::CHECKPOINT_TOML
+                    pendulum_fem::commands::run::checkpoint::CHECKPOINT_TOML
                 )));
             }
             Config::load(Some(&file), &args.cfg.set)?
@@ -479,7 +480,10 @@ fn run(args: RunArgs) -> Result<bool, Error> {
         config,
         out: args.restart.clone().or_else(|| args.out.clone()),
         force: args.force,
-        quiet: args.quiet,
+        observers: vec![
+            pendulum_fem::render::pictures::attach(),
+            pendulum_fem::progress::attach(args.quiet),
+        ],
         stop: Some(stop),
         checkpoint_every: args.checkpoint_every,
         restart: args.restart.is_some(),

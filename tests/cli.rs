@@ -214,8 +214,8 @@ fn help_lists_every_subcommand() {
     }
 }
 
-fn status_of(dir: &std::path::Path) -> pendulum_fem::io::status::RunStatus {
-    pendulum_fem::io::status::RunStatus::read(&dir.join("status.json")).expect("status.json")
+fn status_of(dir: &std::path::Path) -> pendulum_fem::run::status::RunStatus {
+    pendulum_fem::run::status::RunStatus::read(&dir.join("status.json")).expect("status.json")
 }
 
 /// Every file below `dir`, relative, sorted.
@@ -407,7 +407,7 @@ fn ngsolve_theta(name: &str) -> Vec<(f64, f64)> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
         .join(name);
-    let (names, rows) = pendulum_fem::io::csv::read_numeric_csv(&path).unwrap();
+    let (names, rows) = pendulum_fem::run::csv::read_numeric_csv(&path).unwrap();
     assert_eq!(names[..2], ["t_s", "theta_rad"]);
     rows.into_iter().map(|r| (r[0], r[1])).collect()
 }
@@ -440,7 +440,7 @@ fn the_tutorials_exact_reproduction_runs_through_the_cli_with_the_watchdog_on_an
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", stderr(&out));
-    let (names, rows) = pendulum_fem::io::csv::read_numeric_csv(&dir.join("results.csv")).unwrap();
+    let (names, rows) = pendulum_fem::run::csv::read_numeric_csv(&dir.join("results.csv")).unwrap();
     let (t, theta) = (
         names.iter().position(|c| c == "time_s").unwrap(),
         names.iter().position(|c| c == "theta_rad").unwrap(),

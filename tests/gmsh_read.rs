@@ -11,9 +11,9 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 use pendulum_fem::commands::run::{run, RunOptions, RunSummary};
-use pendulum_fem::io::gmsh::write_msh;
-use pendulum_fem::io::gmsh_read::{parse_msh, read_msh};
 use pendulum_fem::mesh::{generate, Mesh};
+use pendulum_fem::render::gmsh::write_msh;
+use pendulum_fem::render::gmsh_read::{parse_msh, read_msh};
 use pendulum_fem::Config;
 
 fn scratch(name: &str) -> PathBuf {
@@ -36,7 +36,7 @@ fn quiet_run(mut config: Config, out: PathBuf) -> RunSummary {
         config,
         out: Some(out),
         force: true,
-        quiet: true,
+        observers: vec![pendulum_fem::render::pictures::attach()],
         ..Default::default()
     };
     run(&opts).unwrap()
@@ -78,7 +78,7 @@ fn our_own_msh_reads_back_as_the_same_mesh_and_the_same_motion_bit_for_bit() {
     generated.time.end = 0.3;
     quiet_run(generated, dir.join("generated"));
     quiet_run(from_file, dir.join("from-file"));
-    let read = |name: &str| pendulum_fem::io::csv::read_numeric_csv(&dir.join(name).join("results.csv")).unwrap();
+    let read = |name: &str| pendulum_fem::run::csv::read_numeric_csv(&dir.join(name).join("results.csv")).unwrap();
     let ((names, a), (_, b)) = (read("generated"), read("from-file"));
     assert_eq!(a.len(), 31);
     let strain = names.iter().position(|n| n == "strain_J").unwrap();

@@ -7,8 +7,8 @@ use std::path::PathBuf;
 
 use common::tutorial;
 use pendulum_fem::commands::mesh::{mesh_command, MeshReport};
-use pendulum_fem::io::{gmsh, vtm};
 use pendulum_fem::mesh::generate;
+use pendulum_fem::render::{gmsh, vtm};
 
 fn out_dir(name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);

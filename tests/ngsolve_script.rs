@@ -7,7 +7,7 @@ mod tools;
 
 use std::path::{Path, PathBuf};
 
-use pendulum_fem::io::csv::read_numeric_csv;
+use pendulum_fem::run::csv::read_numeric_csv;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -10,7 +10,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use pendulum_fem::config::Output;
-use pendulum_fem::io::{prepare_output_dir, FrameWriters};
+use pendulum_fem::render::FrameWriters;
+use pendulum_fem::run::prepare_output_dir;
 use plate::*;
 
 /// Frame count and distinct palette indices of a GIF.
@@ -336,7 +337,7 @@ fn default_runs_paraview_frames_are_at_most_a_third_of_the_uncompressed_size() {
     let opts = RunOptions {
         config,
         out: Some(dir.clone()),
-        quiet: true,
+        observers: vec![pendulum_fem::render::pictures::attach()],
         ..Default::default()
     };
     run_job(&opts).unwrap();
@@ -390,7 +391,7 @@ fn paraview_and_pictures_thin_separately_and_both_end_on_the_last_step() {
 
 #[test]
 fn a_run_whose_frames_would_exceed_a_gigabyte_is_warned_about_with_the_keys_to_change() {
-    use pendulum_fem::commands::run::output_size_warning;
+    use pendulum_fem::render::pictures::output_size_warning;
     let mesh = pendulum_fem::mesh::generate(&pendulum_fem::Config::default()).unwrap();
     let mut cfg = pendulum_fem::Config::default();
     assert_eq!(
@@ -526,9 +527,9 @@ fn explicit_new_or_empty_folder_is_used_as_is() {
 
 #[test]
 fn hundred_frames_of_a_1200_triangle_mesh_are_written_quickly() {
-    use pendulum_fem::io::anim::{write_gif, AnimField, KeptFrame, KeptFrames, Scene};
-    use pendulum_fem::io::plot::{write_energy_png, write_theta_png, History};
-    use pendulum_fem::io::viewer::write_viewer;
+    use pendulum_fem::render::anim::{write_gif, AnimField, KeptFrame, KeptFrames, Scene};
+    use pendulum_fem::render::plot::{write_energy_png, write_theta_png, History};
+    use pendulum_fem::render::viewer::write_viewer;
     let dir = temp_dir("timing");
     let mesh = plate_mesh(4, 150);
     assert_eq!(mesh.triangles.len(), 1200);

@@ -42,8 +42,8 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 use pendulum_fem::commands::run::{run, RunEnd, RunOptions, RunSummary};
-use pendulum_fem::io::csv::read_numeric_csv;
-use pendulum_fem::io::plot::History;
+use pendulum_fem::render::plot::History;
+use pendulum_fem::run::csv::read_numeric_csv;
 use pendulum_fem::Config;
 
 /// Cases run by `cargo test` (without `ROBUST_CASES`).
@@ -447,7 +447,7 @@ fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured,
         config,
         out: Some(out.clone()),
         force: true,
-        quiet: true,
+        observers: vec![pendulum_fem::render::pictures::attach()],
         stop: Some(stop.clone()),
         ..Default::default()
     };
@@ -714,7 +714,7 @@ fn after_a_blow_the_ringing_of_a_soft_head_converges_in_a_few_iterations_per_ste
         config,
         out: Some(out.clone()),
         force: true,
-        quiet: true,
+        observers: vec![pendulum_fem::render::pictures::attach()],
         ..Default::default()
     })
     .unwrap();

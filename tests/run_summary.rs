@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use pendulum_fem::commands::run::{run, EnergyAudit, RunOptions, RunSummary};
-use pendulum_fem::io::csv::read_numeric_csv;
+use pendulum_fem::run::csv::read_numeric_csv;
 use pendulum_fem::simulation::Model;
 use pendulum_fem::{mesh, Config};
 
@@ -28,7 +28,7 @@ fn run_into(name: &str, config: Config) -> (Result<RunSummary, pendulum_fem::Err
     let opts = RunOptions {
         config,
         out: Some(dir.clone()),
-        quiet: true,
+        observers: vec![pendulum_fem::render::pictures::attach()],
         ..Default::default()
     };
     (run(&opts), dir)
@@ -164,7 +164,7 @@ fn the_watchdog_stops_a_run_whose_energy_error_exceeds_the_limit_naming_time_ene
     for needle in ["t = ", "energy error", "output.energy_watchdog", "kinetic", "time.dt"] {
         assert!(err.contains(needle), "`{needle}` missing in: {err}");
     }
-    let status = pendulum_fem::io::status::RunStatus::read(&dir.join("status.json")).unwrap();
+    let status = pendulum_fem::run::status::RunStatus::read(&dir.join("status.json")).unwrap();
     assert_eq!(status.status, "failed");
     let step = status.step.unwrap();
     assert!(step > 0 && step < 100, "stopped at step {step}");
@@ -183,7 +183,6 @@ fn the_largest_von_mises_of_csv_and_summary_is_the_largest_value_of_the_frames_f
     let opts = RunOptions {
         config: cfg,
         out: Some(dir.clone()),
-        quiet: true,
         ..Default::default()
     };
     let mut largest_shown = 0.0f64;

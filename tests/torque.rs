@@ -561,7 +561,7 @@ fn cli_run(name: &str, sets: &[String]) -> (Vec<String>, Vec<Vec<f64>>) {
     }
     let o = cmd.output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    pendulum_fem::io::csv::read_numeric_csv(&out.join("results.csv")).unwrap()
+    pendulum_fem::run::csv::read_numeric_csv(&out.join("results.csv")).unwrap()
 }
 
 fn column(names: &[String], name: &str) -> usize {

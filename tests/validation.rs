@@ -12,8 +12,8 @@
 mod common;
 
 use pendulum_fem::config::{InitialAcceleration, InitialElastic, Scheme};
-use pendulum_fem::io::csv::read_numeric_csv;
 use pendulum_fem::post::PeriodEstimator;
+use pendulum_fem::run::csv::read_numeric_csv;
 use pendulum_fem::Config;
 
 const EXACT_MASS: f64 = 1.084295939; // kg

@@ -14,8 +14,8 @@ use std::time::{Duration, Instant};
 
 use pendulum_fem::commands::run::{run as run_job, RunOptions, RunSummary};
 use pendulum_fem::config::WallKind;
-use pendulum_fem::io::anim::{WALL_FILL, WALL_HATCH};
-use pendulum_fem::io::plot::{History, IMPACT_RGB};
+use pendulum_fem::render::anim::{WALL_FILL, WALL_HATCH};
+use pendulum_fem::render::plot::{History, IMPACT_RGB};
 use pendulum_fem::Config;
 use plate::temp_dir;
 
@@ -25,7 +25,7 @@ fn options(config: Config, dir: &Path) -> RunOptions {
         config,
         out: Some(dir.to_path_buf()),
         force: true,
-        quiet: true,
+        observers: vec![pendulum_fem::render::pictures::attach()],
         ..Default::default()
     }
 }

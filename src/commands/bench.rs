@@ -41,7 +41,6 @@ pub fn time_default_run(cfg: &Config) -> Result<RunSummary, Error> {
         config: cfg.clone(),
         out: Some(dir.clone()),
         force: true,
-        quiet: true,
         ..Default::default()
     };
     let s = run_with(&opts, dir.clone(), |_, _| Ok(()));

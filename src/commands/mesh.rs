@@ -10,7 +10,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use crate::io::{gmsh, vtm};
+use crate::render::{gmsh, vtm};
 use crate::{mesh, Config, Error, Mesh};
 
 /// The numbers the `mesh` command reports.

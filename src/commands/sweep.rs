@@ -18,10 +18,10 @@
 //! at the end, so that it is always a consistent table; the figures `summary_<key>.png` (every
 //! metric against each numeric varied key) are drawn at the end.
 
-/// One case and its summary row (in `pendulum-fem-io`, shared with the Python package).
-pub use pendulum_fem_io::study::case;
-/// The grid of cases (in `pendulum-fem-io`).
-pub use pendulum_fem_io::study::grid;
+/// One case and its summary row (in `pendulum-fem-run`, shared with the Python package).
+pub use pendulum_fem_run::study::case;
+/// The grid of cases (in `pendulum-fem-run`).
+pub use pendulum_fem_run::study::grid;
 mod plots;
 mod progress;
 
@@ -345,6 +345,8 @@ pub fn run_sweep(sweep: &Sweep, opts: &SweepOptions) -> Result<SweepReport, Erro
     let case_opts = CaseOptions {
         threads: opts.threads,
         stop: opts.stop.clone(),
+        // a case draws the pictures its configuration keeps (`--all-outputs`)
+        observers: vec![crate::render::pictures::attach()],
     };
     std::thread::scope(|scope| {
         for _ in 0..jobs {
@@ -422,7 +424,7 @@ fn write_rows(out: &Path, keys: &[String], rows: &[CaseRow]) -> Result<PathBuf, 
         text.push('\n');
     }
     let path = out.join(SUMMARY_CSV);
-    crate::io::vtu::write_atomically(&path, |w| w.write_all(text.as_bytes()))?;
+    crate::run::files::write_atomically(&path, |w| w.write_all(text.as_bytes()))?;
     Ok(path)
 }
 

@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use pendulum_fem::config::Output;
-use pendulum_fem::io::Frame;
 use pendulum_fem::mesh::{BoundaryEdge, Mesh};
+use pendulum_fem::render::Frame;
 
 /// Plate width and length \[m\].
 pub const WIDTH: f64 = 0.03;
@@ -196,7 +196,7 @@ pub fn all_outputs() -> Output {
 
 /// Runs the writers over `steps` synthetic steps (results.csv written first, as the solver does).
 pub fn run(dir: &Path, mesh: &Mesh, output: &Output, steps: usize, dt: f64) -> Vec<PathBuf> {
-    use pendulum_fem::io::FrameWriters;
+    use pendulum_fem::render::FrameWriters;
     write_results_csv(dir, steps, dt);
     let mut w = FrameWriters::new(dir, mesh, output, None).unwrap();
     for step in 0..=steps {

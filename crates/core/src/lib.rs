@@ -2,8 +2,8 @@
 //!
 //! The numerical core of pendulum-fem: configuration, geometry, mesh, elements, materials, energy
 //! terms, Newton, time stepping and the [`Simulation`] stepper. No command line, plotting or
-//! progress-bar dependencies: the output writers and the run driver are in `pendulum-fem-io`, the
-//! command line in `pendulum-fem`.
+//! progress-bar dependencies: the run driver and its CSV files are in `pendulum-fem-run`, the
+//! ParaView files and pictures in `pendulum-fem-render`, the command line in `pendulum-fem`.
 //!
 //! ## What it simulates
 //!
@@ -43,7 +43,8 @@
 //!
 //! [`config`] → [`geometry`] → [`mesh`] → [`element`], [`quadrature`] → [`material`] → [`fe`] →
 //! [`terms`] + [`constraint`] → [`newton`] over [`linsolve`] → [`newmark`] → [`simulation`] →
-//! [`post`]; the writers (`pendulum-fem-io`) observe the stepper.
+//! [`post`]; the run driver (`pendulum-fem-run`) and the writers (`pendulum-fem-render`) observe
+//! the stepper.
 #![warn(missing_docs)]
 
 pub mod config;

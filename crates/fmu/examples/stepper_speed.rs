@@ -7,7 +7,7 @@
 
 use std::time::Instant;
 
-use pendulum_fem::{mesh, Config, Simulation};
+use pendulum_fem_core::{mesh, Config, Simulation};
 use pendulum_fem_fmu::contact::contact_outputs;
 
 /// CPU time of this process (user + system, all threads) \[s\], from `/proc/self/stat`.

@@ -24,8 +24,8 @@
 //!   last internal step and the start time (the impact count is the stepper's, in the snapshot);
 //!   serialised behind a small header, all of it under one checksum ([`FmuState::to_bytes`]).
 
-use pendulum_fem::simulation::split;
-use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot};
+use pendulum_fem_core::simulation::split;
+use pendulum_fem_core::{mesh, Config, Error, Simulation, Snapshot};
 
 use crate::contact::contact_outputs;
 use crate::variables::{Causality, Kind, Output, Role, Variable, VARIABLES};

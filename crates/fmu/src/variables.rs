@@ -3,9 +3,9 @@
 //! each parameter sets in the configuration). Nothing about a variable is written twice.
 //!
 //! Parameters that name a configuration key ([`Role::Config`]) are applied with the CLI's
-//! `--set key=value` mechanism ([`pendulum_fem::Config::load`]), so they are checked exactly like
+//! `--set key=value` mechanism ([`pendulum_fem_core::Config::load`]), so they are checked exactly like
 //! the CLI's values and their defaults are the CLI's (a test compares every start with
-//! [`pendulum_fem::Config::default`]).
+//! [`pendulum_fem_core::Config::default`]).
 
 use std::fmt::Write as _;
 

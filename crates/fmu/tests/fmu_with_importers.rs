@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-use pendulum_fem::{mesh, Config, Simulation};
+use pendulum_fem_core::{mesh, Config, Simulation};
 use pendulum_fem_fmu::package::{write_fmu, LIBRARY_FILE};
 
 fn manifest_dir() -> PathBuf {

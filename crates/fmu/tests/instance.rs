@@ -6,8 +6,8 @@
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use pendulum_fem::simulation::split::internal_steps;
-use pendulum_fem::Config;
+use pendulum_fem_core::simulation::split::internal_steps;
+use pendulum_fem_core::Config;
 use pendulum_fem_fmu::instance::Phase;
 use pendulum_fem_fmu::variables::{by_name, Kind, Role, VARIABLES};
 use pendulum_fem_fmu::{Instance, Status};
@@ -119,7 +119,7 @@ fn a_zero_step_refreshes_and_the_master_time_is_accepted_within_rounding() {
 fn a_long_communication_step_equals_its_internal_steps() {
     let (mut long, _) = started(&[("theta_start", 0.35)]);
     let (mut short, _) = started(&[("theta_start", 0.35)]);
-    // the split rule the FMU applies (pendulum_fem::simulation::split, tested there too)
+    // the split rule the FMU applies (pendulum_fem_core::simulation::split, tested there too)
     assert_eq!(internal_steps(0.05, 0.01, None), Ok((5, 0.01)));
     assert_eq!(
         internal_steps(0.010000000000000009, 0.01, None),

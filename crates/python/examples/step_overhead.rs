@@ -4,9 +4,9 @@
 
 use std::time::Instant;
 
-use pendulum_fem::{mesh, Config, Simulation};
+use pendulum_fem_core::{mesh, Config, Simulation};
 
-fn main() -> Result<(), pendulum_fem::Error> {
+fn main() -> Result<(), pendulum_fem_core::Error> {
     let cfg = Config::default();
     let mut best = f64::INFINITY;
     for _ in 0..5 {

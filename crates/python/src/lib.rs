@@ -1,24 +1,24 @@
 //! `pendulum_fem._core`: the Python face of the pendulum's stepper (PyO3, an abi3 extension module
 //! built by maturin; the Python package `pendulum_fem` re-exports it).
 //!
-//! One class, [`PySimulation`] (`pendulum_fem.Simulation`), owns a [`pendulum_fem::Simulation`] and
-//! the [`pendulum_fem::Config`] it was built from:
+//! One class, [`PySimulation`] (`pendulum_fem.Simulation`), owns a [`pendulum_fem_core::Simulation`] and
+//! the [`pendulum_fem_core::Config`] it was built from:
 //!
 //! * **Configuration**: a TOML file, a dict (nested, or with dotted keys) and keyword overrides with
 //!   the CLI's keys. Dicts and keywords become the CLI's `--set key=value` overrides (each value
-//!   written as a TOML literal), so they are merged and checked by [`pendulum_fem::Config::load`]
+//!   written as a TOML literal), so they are merged and checked by [`pendulum_fem_core::Config::load`]
 //!   exactly as on the command line.
 //! * **Stepping**: `step(dt)`, `step_to(t_end)` and `run(end, dt)` release the GIL; `run` returns
-//!   the columns of `results.csv` ([`pendulum_fem::StepRecord::header`]: with a wall, the contact
-//!   columns too; [`pendulum_fem_io::run::csv_values`]) as numpy arrays.
+//!   the columns of `results.csv` ([`pendulum_fem_core::StepRecord::header`]: with a wall, the contact
+//!   columns too; [`pendulum_fem_run::rows::csv_values`]) as numpy arrays.
 //! * **Wall**: `gap`, `contact_force`, `impacts`, `in_contact` and `events` (the rows of the CLI's
-//!   `events.csv`) read the stepper's wall ([`pendulum_fem::Simulation::gap`]).
-//! * **Torque input**: `tau` holds the pivot torque ([`pendulum_fem::Simulation::set_torque`]). A
+//!   `events.csv`) read the stepper's wall ([`pendulum_fem_core::Simulation::gap`]).
+//! * **Torque input**: `tau` holds the pivot torque ([`pendulum_fem_core::Simulation::set_torque`]). A
 //!   model without a `[torque]` profile has no torque term (so that `Simulation()` is the CLI's
 //!   default run bit for bit); setting `tau` before the first step declares one (`torque.profile =
 //!   "constant"`, `amplitude = 0`) by rebuilding the model (its mesh generated again from the
 //!   configuration).
-//! * **State**: `snapshot()`/`restore()` as bytes ([`pendulum_fem::Snapshot::to_bytes`]) and
+//! * **State**: `snapshot()`/`restore()` as bytes ([`pendulum_fem_core::Snapshot::to_bytes`]) and
 //!   pickling (the configuration as TOML and the snapshot).
 //! * **Errors**: the Rust message in a Python exception: `ValueError` for invalid input (a bad
 //!   key names the key), `ConvergenceError` (a `RuntimeError`) for a failed step,
@@ -30,10 +30,11 @@ use pyo3::exceptions::{PyOSError, PyRuntimeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-use pendulum_fem::config::TorqueProfile;
-use pendulum_fem::post::unsigned_zero;
-use pendulum_fem::{mesh, Config, Error, Simulation, Snapshot, StepRecord};
-use pendulum_fem_io::run::{csv_values, StepPlan, EVENTS_HEADER};
+use pendulum_fem_core::config::TorqueProfile;
+use pendulum_fem_core::post::unsigned_zero;
+use pendulum_fem_core::{mesh, Config, Error, Simulation, Snapshot, StepRecord};
+use pendulum_fem_run::rows::{csv_values, EVENTS_HEADER};
+use pendulum_fem_run::StepPlan;
 
 pyo3::create_exception!(
     pendulum_fem,
@@ -161,7 +162,7 @@ fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResu
     Config::load(path.as_deref(), overrides).map_err(|e| {
         let message = e.to_string();
         let unknown = unknown_keys(overrides);
-        if pendulum_fem::config::reports_an_unknown_key(&message) && !unknown.is_empty() {
+        if pendulum_fem_core::config::reports_an_unknown_key(&message) && !unknown.is_empty() {
             let keys: Vec<String> = unknown.iter().map(|k| format!("`{k}`")).collect();
             PyValueError::new_err(format!("unknown configuration key {} ({message})", keys.join(", ")))
         } else {
@@ -319,7 +320,7 @@ impl PySimulation {
                 "run: end = {end} s is before the current time {t0} s"
             )));
         }
-        let time = pendulum_fem::config::Time {
+        let time = pendulum_fem_core::config::Time {
             dt,
             end: end - t0,
             ..self.config.time.clone()
@@ -608,14 +609,14 @@ fn event_columns() -> Vec<&'static str> {
 }
 
 /// `(n, step)`: a communication step `h` [s] as `n` internal steps of `step <= max_step` [s], by
-/// the FMU's rule ([`pendulum_fem::simulation::split::internal_steps`]): a multiple of `max_step`
+/// the FMU's rule ([`pendulum_fem_core::simulation::split::internal_steps`]): a multiple of `max_step`
 /// (to 1e-9 relative) takes steps of exactly `max_step`, other steps `ceil(h / max_step)` equal
 /// ones, reusing `last` (the previous call's internal step) when within 1e-9 of it. A bad value or
 /// more than a million internal steps is a `ValueError`.
 #[pyfunction]
 #[pyo3(signature = (h, max_step, last=None))]
 fn internal_steps(h: f64, max_step: f64, last: Option<f64>) -> PyResult<(u64, f64)> {
-    pendulum_fem::simulation::split::internal_steps(h, max_step, last).map_err(PyValueError::new_err)
+    pendulum_fem_core::simulation::split::internal_steps(h, max_step, last).map_err(PyValueError::new_err)
 }
 
 mod study;

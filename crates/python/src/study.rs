@@ -17,9 +17,9 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat, PyInt, PyList, PyString};
 
-use pendulum_fem::Config;
-use pendulum_fem_io::study::case::{self, CaseOptions, CaseRow};
-use pendulum_fem_io::study::grid::{self, Plan};
+use pendulum_fem_core::{Config, Error};
+use pendulum_fem_run::study::case::{self, CaseOptions, CaseRow};
+use pendulum_fem_run::study::grid::{self, Plan};
 
 /// A dotted configuration key as a TOML key (bare parts where they may be, quoted otherwise).
 fn toml_key(key: &str) -> String {
@@ -79,7 +79,7 @@ pub fn expand<'py>(
     zip: bool,
     cases: Option<Bound<'py, PyList>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let bad = |e: pendulum_fem::Error| PyValueError::new_err(e.to_string());
+    let bad = |e: pendulum_fem_core::Error| PyValueError::new_err(e.to_string());
     let mut plans = Vec::new();
     if let Some(c) = &cases {
         plans.push(case_plan(c)?);
@@ -149,7 +149,9 @@ fn row_dict<'py>(py: Python<'py>, row: &CaseRow) -> PyResult<Bound<'py, PyDict>>
 /// `run_case(varied, overrides, config=None, case_dir=None, threads=1, all_outputs=False) -> dict`:
 /// runs one case of a study as `pendulum-fem sweep` does: the configuration is the file `config`
 /// (or the defaults) with `overrides` (`key=value`, the study's `--set` then the case's values),
-/// with only `results.csv` as output unless `all_outputs`; it runs in `case_dir` (a scratch folder,
+/// with only `results.csv` as output unless `all_outputs` (the configuration's `[output]` switches;
+/// pictures and ParaView files are the CLI's, so a case that asks for them is a failed row that says
+/// so: the module carries no plotting or image code); it runs in `case_dir` (a scratch folder,
 /// removed afterwards, when `None`) on a pool of `threads` threads, without the GIL. Never raises
 /// for the case itself: a configuration error or a failed run is a row with `status = "failed"`
 /// and the message. `varied` are the `(key, value)` pairs shown in the row.
@@ -174,7 +176,24 @@ pub fn run_case<'py>(
             }
             c
         });
-        let opts = CaseOptions { threads, stop: None };
+        // the pictures are drawn by the CLI (`pendulum-fem-render`), which this module leaves out
+        let cfg =
+            cfg.and_then(
+                |c| match c.output.plots || c.output.animation || c.output.paraview || c.output.viewer {
+                    true => Err(Error::Input(
+                        "all_outputs: this configuration asks for plots, animations, ParaView frames or the viewer \
+                 ([output] plots, animation, paraview, viewer), which the Python package does not draw: set them \
+                 to false, or run the study with `pendulum-fem sweep --all-outputs`"
+                            .into(),
+                    )),
+                    false => Ok(c),
+                },
+            );
+        let opts = CaseOptions {
+            threads,
+            stop: None,
+            observers: Vec::new(),
+        };
         match &case_dir {
             Some(dir) => case::run_case(varied, cfg, dir, &opts),
             None => {

@@ -1,11 +1,11 @@
 //! `summary_<key>.png`: every metric of the completed cases against each varied key whose values
 //! are numbers, one series per combination of the other keys' values
-//! ([`crate::io::summary_plot`]).
+//! ([`crate::render::summary_plot`]).
 
 use std::path::{Path, PathBuf};
 
 use super::case::{CaseRow, CaseStatus, Cell, METRICS, WALL_METRICS};
-use crate::io::summary_plot::{write_summary_png, Panel};
+use crate::render::summary_plot::{write_summary_png, Panel};
 use crate::Error;
 
 /// Draws the figures; returns the files written (none for a key with text values or a single

@@ -8,7 +8,7 @@
 //! their curves; points (type 15) are ignored. The nodes must lie in the plane `z = 0`.
 //!
 //! **The mesh built.** Corner nodes first, then mid-edge nodes, each in the order of their tags
-//! (so a file written by `pendulum_fem_io::gmsh::write_msh` reads back with the same numbering); 3-node
+//! (so a file written by `pendulum_fem_render::gmsh::write_msh` reads back with the same numbering); 3-node
 //! triangles get straight mid-edge nodes (`order = 1`), 6-node triangles keep theirs (`order = 2`).
 //! Clockwise triangles are turned counter-clockwise. Every edge used by one triangle is a boundary
 //! edge, named by the physical group of the line element on it (`"default"` without one); the

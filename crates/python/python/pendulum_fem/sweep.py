@@ -88,7 +88,10 @@ def sweep(
     ``1e6..2.1e11:8``), all as a grid or, with ``zip``, paired. Each case's configuration is
     ``config`` (a TOML file, a dict of keys like ``--set``, or the defaults), then ``set`` (a dict or
     ``"key=value"`` strings, the CLI's ``--set``), then the case's values; it writes only
-    ``results.csv`` unless ``all_outputs``.
+    ``results.csv`` unless ``all_outputs``, which keeps the configuration's ``[output]`` switches
+    for the CSV files; a case whose configuration asks for pictures or ParaView files fails with a
+    message saying so (the package carries no plotting or image code; ``pendulum-fem sweep
+    --all-outputs`` draws them).
 
     ``out``: the sweep folder (``out/case-NNNN/`` per case, ``cases.csv`` and ``summary.csv`` as
     the CLI writes them; on a cluster, a folder every worker sees); ``None`` keeps no files.

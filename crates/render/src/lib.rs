@@ -1,9 +1,10 @@
-//! # pendulum-fem-io
+//! # pendulum-fem-render
 //!
-//! What observes a [`Simulation`](pendulum_fem_core::Simulation): the writers (VTU/PVD/VTM for
-//! ParaView, Gmsh `.msh`, CSV, plots, animations, the HTML viewer, the run status), the progress
-//! display and the run driver ([`run`]) that steps a simulation and records it. The numerical core
-//! is `pendulum-fem-core`; the command line is `pendulum-fem`.
+//! The files and pictures of a run: VTU/PVD/VTM for ParaView, Gmsh `.msh`, the θ and energy
+//! plots, the animations, the HTML viewer, and a sweep's summary figures. They watch a run as a
+//! [`RunObserver`](pendulum_fem_run::RunObserver) ([`pictures::attach`]). The numerics are
+//! `pendulum-fem-core`, the run driver `pendulum-fem-run`, the command line `pendulum-fem`; the
+//! FMU and the Python module do without this crate (and its image and font code).
 #![warn(missing_docs)]
 
 // The core's modules under the names the writers have always used (`crate::Mesh`, `crate::config`).
@@ -11,27 +12,21 @@
 pub use pendulum_fem_core::mesh::gmsh_read;
 pub use pendulum_fem_core::simulation::Frame;
 pub(crate) use pendulum_fem_core::{config, mesh, simulation, Config, Error, Mesh};
+pub use pendulum_fem_run::files::write_atomically;
 
 pub mod anim;
-pub mod csv;
 mod font;
 pub mod gmsh;
-pub mod impacts;
-pub mod outdir;
+pub mod pictures;
 pub mod plot;
-pub mod progress;
 pub mod pvd;
 mod raster;
-pub mod run;
-pub mod status;
-pub mod study;
 pub mod summary_plot;
 pub mod viewer;
 pub mod vtm;
 pub mod vtu;
 pub mod writers;
 
-pub use outdir::prepare_output_dir;
 pub use writers::FrameWriters;
 
 /// Values of one field at every mesh node (vertices and mid-edge nodes).

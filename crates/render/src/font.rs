@@ -1,4 +1,4 @@
-//! The one font every picture uses: DejaVu Sans, shipped in `crates/io/assets/fonts/` (licence beside it)
+//! The one font every picture uses: DejaVu Sans, shipped in `crates/render/assets/fonts/` (licence beside it)
 //! and compiled into the binary, so no system font is ever looked up.
 //!
 //! Plots ([`super::plot`]) draw text through plotters' `ab_glyph` backend, which knows only fonts
@@ -9,7 +9,7 @@
 use ab_glyph::{point, Font, FontRef, PxScale, ScaleFont};
 use std::sync::Once;
 
-/// The TrueType file of DejaVu Sans (Bitstream Vera licence, see `crates/io/assets/fonts/DejaVuSans-LICENSE.txt`).
+/// The TrueType file of DejaVu Sans (Bitstream Vera licence, see `crates/render/assets/fonts/DejaVuSans-LICENSE.txt`).
 pub(crate) const FONT_BYTES: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 
 /// Registers the shipped font with plotters as the `sans-serif` family (idempotent).
@@ -17,7 +17,7 @@ pub(crate) fn register_for_plotters() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         plotters::style::register_font("sans-serif", plotters::style::FontStyle::Normal, FONT_BYTES).unwrap_or_else(
-            |_| panic!("the shipped font crates/io/assets/fonts/DejaVuSans.ttf is not a valid TrueType file"),
+            |_| panic!("the shipped font crates/render/assets/fonts/DejaVuSans.ttf is not a valid TrueType file"),
         );
     });
 }

@@ -12,6 +12,10 @@ use std::io::{IsTerminal, Write};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use pendulum_fem_core::simulation::{Simulation, StepRecord};
+use pendulum_fem_core::Error;
+use pendulum_fem_run::driver::{Attach, RunObserver};
+use pendulum_fem_run::StepPlan;
 
 /// How progress is shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -146,6 +150,31 @@ impl Progress {
             let _ = writeln!(out, "{line}");
             let _ = out.flush();
         }
+    }
+}
+
+/// The progress of a run on stderr, as an observer of the run driver (none with `quiet`).
+pub fn attach(quiet: bool) -> Attach {
+    Attach::new(move |start| {
+        let mode = if quiet {
+            ProgressMode::Quiet
+        } else {
+            ProgressMode::detect(false)
+        };
+        let progress = Progress::new(StepPlan::of(&start.config.time).steps(), mode);
+        Ok(Some(Box::new(progress) as Box<dyn RunObserver>))
+    })
+}
+
+impl RunObserver for Progress {
+    fn record(&mut self, sim: &mut Simulation, record: &StepRecord, _resumed: bool) -> Result<(), Error> {
+        self.update(record.step, record.time, sim.total_iterations);
+        Ok(())
+    }
+
+    fn finish(self: Box<Self>, _sim: &mut Simulation, _last: &StepRecord) -> Result<Vec<std::path::PathBuf>, Error> {
+        Progress::finish(*self);
+        Ok(Vec::new())
     }
 }
 

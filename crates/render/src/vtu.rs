@@ -33,6 +33,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::{Field, FieldData};
+use crate::write_atomically;
 use crate::{Error, Mesh};
 
 /// VTK cell type of the quadratic triangle.
@@ -83,28 +84,6 @@ pub struct Grid<'a> {
     pub cell_data: &'a [Field<'a>],
     /// Global values, `(name, value)`, e.g. `("TimeValue", 0.25)`.
     pub field_data: &'a [(&'a str, f64)],
-}
-
-/// Writes `text` to `path` through a temporary file in the same folder, then renames it.
-pub fn write_atomically(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<(), Error> {
-    let tmp = path.with_extension(format!(
-        "{}.partial",
-        path.extension()
-            .map(|e| e.to_string_lossy().into_owned())
-            .unwrap_or_default()
-    ));
-    let result = (|| {
-        let file = std::fs::File::create(&tmp)?;
-        let mut w = std::io::BufWriter::with_capacity(1 << 16, file);
-        fill(&mut w)?;
-        w.flush()?;
-        drop(w);
-        std::fs::rename(&tmp, path)
-    })();
-    result.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        Error::io(path, e)
-    })
 }
 
 /// Writes a general unstructured grid.

@@ -26,7 +26,8 @@
 //!
 //! ```no_run
 //! # use pendulum_fem_core::{config::Config, Mesh};
-//! # use pendulum_fem_io::{prepare_output_dir, Frame, FrameWriters};
+//! # use pendulum_fem_render::{Frame, FrameWriters};
+//! # use pendulum_fem_run::prepare_output_dir;
 //! # fn demo(cfg: &Config, mesh: &Mesh, out: Option<&std::path::Path>, frames: &[Frame<'_>]) -> Result<(), pendulum_fem_core::Error> {
 //! let dir = prepare_output_dir(&cfg.output.dir, out, false)?; // before any computing
 //! let mut writers = FrameWriters::new(&dir, mesh, &cfg.output, None)?;
@@ -50,26 +51,8 @@ use super::{viewer, Frame};
 use crate::config::Output;
 use crate::{Error, Mesh};
 
-/// File names inside the output folder.
-pub mod names {
-    /// The solver's time history (read by the plots).
-    pub const RESULTS_CSV: &str = "results.csv";
-    /// The contact events of a run with a wall (read by the plots for the impact marks).
-    pub const EVENTS_CSV: &str = "events.csv";
-    /// The records of the sub-steps inside impacts, the columns of `results.csv` (read by the
-    /// plots beside it).
-    pub const IMPACTS_CSV: &str = "impacts.csv";
-    /// θ(t) plot.
-    pub const THETA_PNG: &str = "theta.png";
-    /// Energy plot.
-    pub const ENERGY_PNG: &str = "energy.png";
-    /// Animation coloured by |u|.
-    pub const DISPLACEMENT_GIF: &str = "displacement.gif";
-    /// Animation coloured by von Mises stress.
-    pub const VON_MISES_GIF: &str = "von_mises.gif";
-    /// The HTML viewer.
-    pub const VIEWER_HTML: &str = "viewer.html";
-}
+/// The names of a run's files (one list for the driver, the writers and the output folder).
+pub use pendulum_fem_run::outdir::names;
 
 /// The wall of a run (`wall.kind` other than `"none"`) as the outputs draw it.
 #[derive(Clone, Debug, PartialEq)]

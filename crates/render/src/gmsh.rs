@@ -10,7 +10,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::vtu::write_atomically;
+use crate::write_atomically;
 use crate::{Error, Mesh};
 
 /// Gmsh element type of the 3-node line.

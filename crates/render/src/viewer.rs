@@ -55,7 +55,7 @@ pub fn write_viewer(
     title: &str,
 ) -> Result<(), Error> {
     let html = viewer_html(mesh, frames, scene, history, title);
-    super::vtu::write_atomically(path, |w| w.write_all(html.as_bytes()))
+    crate::write_atomically(path, |w| w.write_all(html.as_bytes()))
 }
 
 /// The page as a string (see [`write_viewer`]).

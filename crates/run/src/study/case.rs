@@ -22,7 +22,7 @@
 //! The varied keys (values as given), then [`METRICS`]: final time \[s\], steps, Newton
 //! iterations, wall time \[s\], smallest and largest θ \[deg\], period \[s\] (empty when θ crossed
 //! zero fewer than twice, or when the head struck a wall: θ then crosses zero inside the impacts), largest von Mises stress \[Pa\], energy error (see
-//! [`crate::run::EnergyAudit`]); then [`WALL_METRICS`] (number of impacts, largest
+//! [`crate::audit::EnergyAudit`]); then [`WALL_METRICS`] (number of impacts, largest
 //! contact force \[N\]) when a wall is on (`wall.kind` other than `"none"`); then `status`
 //! (`ok`, `failed`, `interrupted`, `pending`) and `message` (the error of a failed case). A
 //! failed case keeps the final time and the steps it reached; its other metrics are empty.
@@ -33,7 +33,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::run::{RunEnd, RunOptions, RunSummary};
+use crate::driver::{Attach, RunEnd, RunOptions, RunSummary};
 use crate::status::{error_chain, RunStatus, STATUS_JSON};
 use crate::{Config, Error};
 
@@ -325,6 +325,9 @@ pub struct CaseOptions {
     /// When set, the run stops at the next step boundary and the case is
     /// [`CaseStatus::Interrupted`] (no row is written).
     pub stop: Option<Arc<AtomicBool>>,
+    /// What watches each case's run (the CLI attaches the pictures, which a case draws when its
+    /// configuration keeps them, see [`lean_outputs`]); none: the case writes its CSV files only.
+    pub observers: Vec<Attach>,
 }
 
 /// Switches off the outputs a case does not need by default (plots, animations, ParaView frames,
@@ -431,7 +434,7 @@ fn run_config(varied: Vec<(String, String)>, cfg: Config, dir: &Path, opts: &Cas
     let wall = has_wall(&cfg);
     let written = config_text(&cfg).and_then(|text| {
         let path = dir.join(CASE_CONFIG);
-        crate::vtu::write_atomically(&path, |w| w.write_all(text.as_bytes()))
+        crate::files::write_atomically(&path, |w| w.write_all(text.as_bytes()))
     });
     if let Err(e) = written {
         return CaseRow::without_metrics(varied, CaseStatus::Failed(one_line(&error_chain(&e))));
@@ -440,20 +443,22 @@ fn run_config(varied: Vec<(String, String)>, cfg: Config, dir: &Path, opts: &Cas
         config: cfg,
         out: Some(dir.to_path_buf()),
         force: true,
-        quiet: true,
         stop: opts.stop.clone(),
+        observers: opts.observers.clone(),
         ..Default::default()
     };
     // a panic in one case (a bug) is that case's failure, not the end of the study
     let run = || {
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| crate::run::run(&run_opts))).unwrap_or_else(|panic| {
-            let what = panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_default();
-            Err(Error::Input(format!("the run panicked: {what}")))
-        })
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| crate::driver::run(&run_opts))).unwrap_or_else(
+            |panic| {
+                let what = panic
+                    .downcast_ref::<&str>()
+                    .map(|s| s.to_string())
+                    .or_else(|| panic.downcast_ref::<String>().cloned())
+                    .unwrap_or_default();
+                Err(Error::Input(format!("the run panicked: {what}")))
+            },
+        )
     };
     let result = match opts.threads {
         0 => run(),
@@ -529,7 +534,7 @@ fn peak_event_force(dir: &Path) -> f64 {
 fn write_row(dir: &Path, row: &CaseRow) -> Result<(), Error> {
     let keys: Vec<String> = row.varied.iter().map(|(k, _)| k.clone()).collect();
     let text = format!("{}\n{}\n", header(&keys, row.has_wall()), row.csv_line(row.has_wall()));
-    crate::vtu::write_atomically(&dir.join(CASE_SUMMARY), |w| w.write_all(text.as_bytes()))
+    crate::files::write_atomically(&dir.join(CASE_SUMMARY), |w| w.write_all(text.as_bytes()))
 }
 
 /// A message on one line (a summary row per case).

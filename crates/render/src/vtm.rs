@@ -8,8 +8,9 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use super::vtu::{write_atomically, write_mesh_vtu, write_vtu, Cells, Grid, VTK_QUADRATIC_EDGE};
+use super::vtu::{write_mesh_vtu, write_vtu, Cells, Grid, VTK_QUADRATIC_EDGE};
 use super::{Field, FieldData};
+use crate::write_atomically;
 use crate::{Error, Mesh};
 
 /// Writes `blocks` (name, file relative to the `.vtm`) as a multiblock data set.

@@ -16,6 +16,31 @@ use std::path::{Path, PathBuf};
 
 use crate::Error;
 
+/// File names inside the output folder.
+pub mod names {
+    /// The solver's time history (read by the plots).
+    pub const RESULTS_CSV: &str = "results.csv";
+    /// The contact events of a run with a wall (read by the plots for the impact marks).
+    pub const EVENTS_CSV: &str = "events.csv";
+    /// The records of the sub-steps inside impacts, the columns of `results.csv` (read by the
+    /// plots beside it).
+    pub const IMPACTS_CSV: &str = "impacts.csv";
+    /// θ(t) plot.
+    pub const THETA_PNG: &str = "theta.png";
+    /// Energy plot.
+    pub const ENERGY_PNG: &str = "energy.png";
+    /// Animation coloured by |u|.
+    pub const DISPLACEMENT_GIF: &str = "displacement.gif";
+    /// Animation coloured by von Mises stress.
+    pub const VON_MISES_GIF: &str = "von_mises.gif";
+    /// The HTML viewer.
+    pub const VIEWER_HTML: &str = "viewer.html";
+    /// The ParaView collection of the frames.
+    pub const PVD_NAME: &str = "pendulum.pvd";
+    /// The folder of the ParaView frames (`step_NNNNN.vtu`).
+    pub const FRAMES_DIR: &str = "frames";
+}
+
 /// Prefix of the numbered run folders.
 pub const RUN_PREFIX: &str = "run-";
 /// Name of the pointer to the newest run folder.
@@ -23,18 +48,18 @@ pub const LATEST: &str = "latest";
 
 /// Files a run may write at the top of its folder (besides `frames/`).
 pub const RUN_FILES: [&str; 12] = [
-    "results.csv",
-    "events.csv",
-    "impacts.csv",
-    crate::run::CHECKPOINT_SNAP,
-    crate::run::CHECKPOINT_TOML,
-    super::status::STATUS_JSON,
-    "theta.png",
-    "energy.png",
-    "displacement.gif",
-    "von_mises.gif",
-    "viewer.html",
-    super::pvd::PVD_NAME,
+    names::RESULTS_CSV,
+    names::EVENTS_CSV,
+    names::IMPACTS_CSV,
+    crate::checkpoint::CHECKPOINT_SNAP,
+    crate::checkpoint::CHECKPOINT_TOML,
+    crate::status::STATUS_JSON,
+    names::THETA_PNG,
+    names::ENERGY_PNG,
+    names::DISPLACEMENT_GIF,
+    names::VON_MISES_GIF,
+    names::VIEWER_HTML,
+    names::PVD_NAME,
 ];
 
 /// Removes what a run writes from `dir` (see the module documentation); `frames/` goes too when
@@ -56,7 +81,7 @@ pub fn clear_run_outputs(dir: &Path) -> Result<(), Error> {
             remove(&entry.path())?;
         }
     }
-    let frames = dir.join(super::pvd::FRAMES_DIR);
+    let frames = dir.join(names::FRAMES_DIR);
     if frames.is_dir() {
         for entry in std::fs::read_dir(&frames).map_err(|e| Error::io(&frames, e))? {
             let entry = entry.map_err(|e| Error::io(&frames, e))?;
@@ -155,7 +180,7 @@ fn update_latest(base: &Path, dir: &Path) {
         }
         let _ = std::fs::remove_file(&tmp);
     }
-    let _ = super::vtu::write_atomically(&base.join(format!("{LATEST}.txt")), |w| {
+    let _ = crate::files::write_atomically(&base.join(format!("{LATEST}.txt")), |w| {
         writeln!(w, "{}", name.to_string_lossy())
     });
 }

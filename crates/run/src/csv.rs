@@ -29,7 +29,7 @@ impl CsvWriter {
     }
 
     /// Opens `path`, an existing CSV whose first line is `header`, to append rows to it (a
-    /// restarted run, [`crate::run`]).
+    /// restarted run, [`crate::driver::run`]).
     pub fn append(path: &Path, header: &str) -> Result<Self, Error> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
         let first = text.lines().next().unwrap_or_default();

@@ -31,10 +31,8 @@ use super::writers::WallOutput;
 use super::{vtu, Field, FieldData, Frame};
 use crate::{Error, Mesh};
 
-/// Name of the collection file.
-pub const PVD_NAME: &str = "pendulum.pvd";
-/// Folder of the frame files, relative to the output folder.
-pub const FRAMES_DIR: &str = "frames";
+pub use pendulum_fem_run::outdir::names::FRAMES_DIR;
+pub use pendulum_fem_run::outdir::names::PVD_NAME;
 
 /// Streams frames to VTU files and keeps `pendulum.pvd` up to date.
 #[derive(Debug)]
@@ -134,7 +132,7 @@ impl PvdWriter {
 
     fn write_pvd(&self) -> Result<(), Error> {
         let wall = self.wall.as_ref().filter(|w| w.rigid).map(|_| WALL_VTU);
-        vtu::write_atomically(&self.pvd_path(), |w| write_pvd_to(w, &self.entries, wall))
+        crate::write_atomically(&self.pvd_path(), |w| write_pvd_to(w, &self.entries, wall))
     }
 }
 
