@@ -7,7 +7,6 @@
 //! distance of the deformed head to the plane `x = wall_x` and nothing touches
 //! ([`Simulation::gap`] either way).
 
-use pendulum_fem_core::post::unsigned_zero;
 use pendulum_fem_core::Simulation;
 
 /// The contact outputs of one state.
@@ -25,14 +24,9 @@ pub struct ContactOutputs {
 
 /// The contact outputs of the current state of `sim`; `impact` is the instance's flag.
 pub fn contact_outputs(sim: &Simulation, impact: bool) -> ContactOutputs {
-    let force = sim
-        .model
-        .wall
-        .as_ref()
-        .map_or(0.0, |wall| unsigned_zero(wall.normal_force(sim.displacement())));
     ContactOutputs {
         gap: sim.gap(),
-        force,
+        force: sim.contact_force(),
         count: sim.impacts() as i32,
         impact,
     }

@@ -31,7 +31,6 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 use pendulum_fem_core::config::TorqueProfile;
-use pendulum_fem_core::post::unsigned_zero;
 use pendulum_fem_core::{mesh, Config, Error, Simulation, Snapshot, StepRecord};
 use pendulum_fem_run::rows::{csv_values, EVENTS_HEADER};
 use pendulum_fem_run::StepPlan;
@@ -173,13 +172,8 @@ fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResu
 
 /// The configuration as TOML that reads back to the same value (file paths made absolute).
 fn config_toml(cfg: &Config) -> PyResult<String> {
-    let mut cfg = cfg.clone();
-    for file in [&mut cfg.mesh.file, &mut cfg.torque.file].into_iter().flatten() {
-        if let Ok(abs) = std::path::absolute(&*file) {
-            *file = abs;
-        }
-    }
-    toml::to_string(&cfg).map_err(|e| PyRuntimeError::new_err(format!("configuration as TOML: {e}")))
+    pendulum_fem_run::files::portable_toml(cfg, "configuration as TOML")
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))
 }
 
 /// Meshes and sets up a simulation of `cfg` (without the GIL); a mesh-size warning becomes a
@@ -427,11 +421,7 @@ impl PySimulation {
     /// Normal force of the wall on the head [N] (the `contact_force_N` column; 0 without a wall).
     #[getter]
     fn contact_force(&self) -> f64 {
-        self.sim
-            .model
-            .wall
-            .as_ref()
-            .map_or(0.0, |w| unsigned_zero(w.normal_force(self.sim.displacement())))
+        self.sim.contact_force()
     }
 
     /// Impacts of the head on the wall so far (counted when the head first penetrates the wall;

@@ -25,13 +25,7 @@ pub(crate) fn write_checkpoint(dir: &std::path::Path, sim: &Simulation) -> Resul
 /// Writes the configuration of a run with checkpoints to `dir/checkpoint.toml` (file paths made
 /// absolute, so that it reads back from any folder).
 pub(crate) fn write_checkpoint_config(dir: &std::path::Path, cfg: &Config) -> Result<(), Error> {
-    let mut cfg = cfg.clone();
-    for file in [&mut cfg.mesh.file, &mut cfg.torque.file].into_iter().flatten() {
-        if let Ok(abs) = std::path::absolute(&*file) {
-            *file = abs;
-        }
-    }
-    let text = toml::to_string(&cfg).map_err(|e| Error::Input(format!("{CHECKPOINT_TOML}: {e}")))?;
+    let text = crate::files::portable_toml(cfg, CHECKPOINT_TOML)?;
     let path = dir.join(CHECKPOINT_TOML);
     write_atomically(&path, |w| w.write_all(text.as_bytes()))
 }

@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use pendulum_fem_core::mesh;
 use pendulum_fem_core::post::PeriodEstimator;
-use pendulum_fem_core::simulation::{Simulation, StepRecord};
+use pendulum_fem_core::simulation::{ContactRecord, Simulation, StepRecord};
 use pendulum_fem_core::{Config, Error};
 
 use crate::audit::EnergyAudit;
@@ -136,7 +136,8 @@ pub struct RunSummary {
     pub period: Option<f64>,
     /// Largest von Mises stress over the run \[Pa\].
     pub von_mises_max: f64,
-    /// With a wall: the impacts and the largest contact force over the records \[N\].
+    /// With a wall: the impacts and the largest contact force \[N\] over the records (a restarted
+    /// run's earlier ones included) and the events' peaks between them; what a study's row reports.
     pub contact: Option<(usize, f64)>,
     /// With a wall: count, interval, restitution and rebound of the impacts (what the summary
     /// reports instead of [`RunSummary::period`], which zero crossings inside the impacts spoil).
@@ -205,6 +206,15 @@ pub fn run(opts: &RunOptions) -> Result<RunSummary, Error> {
         prepare_output_dir(&opts.config.output.dir, opts.out.as_deref(), opts.force)?
     };
     run_with(opts, out_dir, |_, _| Ok(()))
+}
+
+impl RunSummary {
+    /// Takes the contact columns of a record and the largest peak force of the events so far
+    /// into [`RunSummary::contact`]: the impacts so far, and the largest contact force.
+    fn take_contact(&mut self, c: &ContactRecord, peaks: f64) {
+        let largest = self.contact.map_or(0.0, |(_, f)| f);
+        self.contact = Some((c.impacts, largest.max(c.force).max(peaks)));
+    }
 }
 
 /// How a run ended.
@@ -324,6 +334,9 @@ fn run_steps(
         summary.theta_range.0 = summary.theta_range.0.min(r.theta);
         summary.theta_range.1 = summary.theta_range.1.max(r.theta);
         summary.von_mises_max = summary.von_mises_max.max(r.von_mises_max);
+        if let Some(c) = &r.contact {
+            summary.take_contact(c, 0.0);
+        }
         audit.push(r);
     }
     let mut record = sim.record(sim.last_newton_iterations());
@@ -364,11 +377,10 @@ fn run_steps(
         if sim.model.wall.is_some() {
             impacts.observe(sim.contact_events(), record.theta);
         }
-        if let Some(c) = record.contact {
+        if let Some(c) = &record.contact {
             // the peaks between the records are in the events
             let peaks = sim.contact_events().iter().map(|e| e.force).fold(0.0, f64::max);
-            let largest = summary.contact.map_or(0.0, |(_, f)| f);
-            summary.contact = Some((c.impacts, largest.max(c.force).max(peaks)));
+            summary.take_contact(c, peaks);
         }
         let error = audit.push(&record);
         if cfg.output.energy_watchdog > 0.0 && error > cfg.output.energy_watchdog {

@@ -5,7 +5,20 @@
 use std::io::Write;
 use std::path::Path;
 
-use pendulum_fem_core::Error;
+use pendulum_fem_core::{Config, Error};
+
+/// `cfg` as TOML that reads back to the same configuration from any folder: the input files
+/// (`mesh.file`, `torque.file`) made absolute. `name` names the file in an error. One rule for a
+/// checkpoint's configuration, a study case's and a pickled Python simulation's.
+pub fn portable_toml(cfg: &Config, name: &str) -> Result<String, Error> {
+    let mut cfg = cfg.clone();
+    for file in [&mut cfg.mesh.file, &mut cfg.torque.file].into_iter().flatten() {
+        if let Ok(abs) = std::path::absolute(&*file) {
+            *file = abs;
+        }
+    }
+    toml::to_string(&cfg).map_err(|e| Error::Input(format!("{name}: {e}")))
+}
 
 /// Writes what `fill` writes to `path` through a temporary file in the same folder, then renames it.
 pub fn write_atomically(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<(), Error> {

@@ -203,6 +203,16 @@ impl Simulation {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// The normal force of the wall on the head in the current state \[N\] (the `contact_force_N`
+    /// column of `results.csv`, a negative zero as 0); 0 without a wall. The one reading of the
+    /// contact force for the FMU's and the Python package's outputs.
+    pub fn contact_force(&self) -> f64 {
+        self.model
+            .wall
+            .as_ref()
+            .map_or(0.0, |wall| crate::post::unsigned_zero(wall.normal_force(&self.state.u)))
+    }
+
     /// Force of the hinge on the body \[N\].
     pub fn hinge_reaction(&self) -> [f64; 2] {
         Hinge::reaction(self.lambda)

@@ -408,13 +408,7 @@ pub fn read_row(dir: &Path) -> Result<Option<CaseRow>, Error> {
 /// The resolved configuration as written to [`CASE_CONFIG`] (input file paths made absolute, so
 /// that it reads back from any folder).
 pub fn config_text(cfg: &Config) -> Result<String, Error> {
-    let mut cfg = cfg.clone();
-    for file in [&mut cfg.mesh.file, &mut cfg.torque.file].into_iter().flatten() {
-        if let Ok(abs) = std::path::absolute(&*file) {
-            *file = abs;
-        }
-    }
-    toml::to_string(&cfg).map_err(|e| Error::Input(format!("{CASE_CONFIG}: {e}")))
+    crate::files::portable_toml(cfg, CASE_CONFIG)
 }
 
 /// Creates `dir` and removes what an earlier attempt of the case wrote there.
@@ -471,7 +465,7 @@ fn run_config(varied: Vec<(String, String)>, cfg: Config, dir: &Path, opts: &Cas
         Ok(s) if s.end == RunEnd::Interrupted => CaseRow::without_metrics(varied, CaseStatus::Interrupted),
         Ok(s) => CaseRow {
             varied,
-            metrics: metrics_of(&s, wall.then(|| wall_metrics(dir))),
+            metrics: metrics_of(&s, wall.then(|| wall_metrics(&s))),
             status: CaseStatus::Ok,
         },
         Err(e) => {
@@ -501,33 +495,13 @@ pub fn metrics_of(s: &RunSummary, wall: Option<WallMetrics>) -> Metrics {
     }
 }
 
-/// Impacts and the largest contact force of a run with a wall, from its `results.csv` columns
-/// `impacts` (the count so far: the last value) and `contact_force_N` (the largest value, or the
-/// largest `max_force_N` of `events.csv`, the peaks between the steps); a column that is absent
-/// gives an empty cell.
-fn wall_metrics(dir: &Path) -> WallMetrics {
-    let Ok((names, rows)) = crate::csv::read_numeric_csv(&dir.join("results.csv")) else {
-        return WallMetrics::default();
-    };
-    let column = |name: &str| names.iter().position(|n| n == name);
+/// Impacts and the largest contact force of a run with a wall, from its summary
+/// ([`RunSummary::contact`]: the records and the events' peak forces between them).
+fn wall_metrics(s: &RunSummary) -> WallMetrics {
     WallMetrics {
-        impacts: column("impacts").and_then(|c| rows.last().map(|r| r[c])),
-        // the step ends sample an impact rarely: its peak force is in events.csv
-        contact_force_max_n: column("contact_force_N")
-            .and_then(|c| rows.iter().map(|r| r[c]).reduce(f64::max))
-            .map(|f| f.max(peak_event_force(dir))),
+        impacts: s.contact.map(|(n, _)| n as f64),
+        contact_force_max_n: s.contact.map(|(_, f)| f),
     }
-}
-
-/// The largest `max_force_N` of `events.csv` (0 without events).
-fn peak_event_force(dir: &Path) -> f64 {
-    let Ok(text) = std::fs::read_to_string(dir.join("events.csv")) else {
-        return 0.0;
-    };
-    text.lines()
-        .skip(1)
-        .filter_map(|l| l.rsplit(',').next()?.parse::<f64>().ok())
-        .fold(0.0, f64::max)
 }
 
 /// Writes the case's [`CASE_SUMMARY`] (atomically).
