@@ -1,0 +1,235 @@
+//! Measures of the current state of a [`Simulation`], computed on request: the CSV record, the
+//! nodal fields of a frame, the consistent acceleration field, the rigid-body rates and energies
+//! ([`Kinematics`], cached until the state changes) and the load scale of a step's residual check.
+
+use super::{ContactRecord, FrameData, Simulation, StepRecord};
+use crate::config::Scheme;
+use crate::constraint::Hinge;
+use crate::linsolve::Cholesky;
+use crate::newton::Timings;
+use crate::terms::{StepContext, Term};
+
+/// Rigid-body measures of a state (see [`Simulation::kinematics`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Kinematics {
+    /// Best-fit angular velocity \[rad/s\].
+    pub(super) omega: f64,
+    /// Best-fit angular acceleration \[rad/s²\].
+    pub(super) alpha: f64,
+    /// Kinetic energy \[J\].
+    pub(super) kinetic: f64,
+    /// Angular momentum about the pivot \[kg m²/s\].
+    pub(super) momentum: f64,
+}
+
+fn pairs(v: &[f64]) -> Vec<[f64; 2]> {
+    v.chunks_exact(2).map(|c| [c[0], c[1]]).collect()
+}
+
+impl Simulation {
+    /// Accumulated solver timings.
+    pub fn timings(&self) -> Timings {
+        self.solver.timings
+    }
+
+    /// Post-processes the current state into a CSV record.
+    pub fn record(&mut self, newton_iterations: usize) -> StepRecord {
+        let theta = self.theta;
+        let von_mises_max = self.von_mises_max();
+        let Kinematics {
+            omega,
+            alpha,
+            kinetic,
+            momentum,
+        } = self.kinematics();
+        let cx = self.context();
+        let m = &self.model;
+        let s = &self.state;
+        let strain = m.strain_energy(&s.u, &cx);
+        let gravity = m.gravity_energy(&s.u, &cx);
+        let contact = m.wall.as_ref().map(|w| ContactRecord {
+            gap: w.smallest_gap(&s.u),
+            force: w.normal_force(&s.u),
+            energy: w.energy(&s.u, &cx),
+            impacts: self.impacts,
+        });
+        let contact_energy = contact.map_or(0.0, |c| c.energy);
+        StepRecord {
+            step: self.step,
+            time: s.t,
+            theta,
+            omega,
+            alpha,
+            kinetic,
+            strain,
+            gravity,
+            total: kinetic + strain + gravity + contact_energy,
+            hinge_force: Hinge::reaction(self.lambda),
+            von_mises_max,
+            newton_iterations,
+            torque: m.applied_torque(s.t, self.held_torque),
+            torque_work: self.torque_work,
+            angular_momentum: momentum,
+            contact,
+        }
+    }
+
+    /// The [`StepContext`] of the current state by itself (its time, unwrapped θ and held inputs).
+    pub fn context(&self) -> StepContext<'_> {
+        StepContext::at(&self.state.u, self.state.t, self.theta, self.held_torque)
+    }
+
+    /// Angular momentum about the pivot of the current state, `Σ_ab M_ab x_a × v_b` \[kg m²/s\].
+    pub fn angular_momentum(&mut self) -> f64 {
+        self.kinematics().momentum
+    }
+
+    /// Nodal fields of the current state.
+    pub fn frame_data(&mut self, theta: f64) -> FrameData {
+        let acceleration = pairs(&self.acceleration_field());
+        FrameData {
+            step: self.step,
+            time: self.state.t,
+            theta,
+            displacement: pairs(&self.state.u),
+            velocity: pairs(&self.state.v),
+            acceleration,
+            stress: self.nodal_stress(),
+        }
+    }
+
+    /// The nodal acceleration of the current state \[m/s²\]. The Newmark schemes carry it in the
+    /// state. The energy-momentum scheme does not need one (it keeps the step's mean acceleration
+    /// as a load scale); here the consistent value at the end of the step is solved from the
+    /// equation of motion, `M a = −∇Π(u, t) − Cᵀμ`, `C a = 0`, with a Cholesky factorisation of the
+    /// mass matrix made on the first call (on request only: frames, not every step).
+    pub fn acceleration_field(&mut self) -> Vec<f64> {
+        if self.model.scheme != Scheme::EnergyMomentum || self.step == 0 {
+            return self.state.a.clone();
+        }
+        if self.mass_solver.is_none() {
+            let m = &self.model;
+            let mut chol = Cholesky::new(&m.pattern).expect("the symbolic analysis succeeded at set-up");
+            let mut mass = m.mass.values.clone();
+            m.fixed.apply_matrix(&mut mass);
+            chol.factor(&m.pattern, &mass)
+                .expect("a consistent mass matrix is positive definite");
+            let n = m.pattern.n;
+            let rows = m.hinge.dense_rows(n);
+            let mut columns = [rows[0].clone(), rows[1].clone()].concat();
+            chol.solve_in_place(&mut columns);
+            self.mass_solver = Some((chol, rows, columns));
+        }
+        let m = &self.model;
+        let s = &self.state;
+        let cx = StepContext::at(&s.u, s.t, self.theta, self.held_torque);
+        let mut force = vec![0.0; s.u.len()];
+        for (term, _) in m.body_terms(0.0) {
+            term.add_gradient(&s.u, &cx, &mut force);
+        }
+        for term in m.loads() {
+            term.add_gradient(&s.u, &cx, &mut force);
+        }
+        force.iter_mut().for_each(|f| *f = -*f);
+        m.fixed.apply_vector(&mut force);
+        let (chol, rows, columns) = self.mass_solver.as_mut().expect("made above");
+        chol.solve_in_place(&mut force);
+        // C (y − Z μ) = 0 with Z = M⁻¹Cᵀ: a 2×2 system for μ
+        let n = force.len();
+        let (zx, zy) = columns.split_at(n);
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let sm = [
+            [dot(&rows[0], zx), dot(&rows[0], zy)],
+            [dot(&rows[1], zx), dot(&rows[1], zy)],
+        ];
+        let b = [dot(&rows[0], &force), dot(&rows[1], &force)];
+        let det = sm[0][0] * sm[1][1] - sm[0][1] * sm[1][0];
+        let mu = [
+            (b[0] * sm[1][1] - b[1] * sm[0][1]) / det,
+            (sm[0][0] * b[1] - sm[1][0] * b[0]) / det,
+        ];
+        (0..n).map(|i| force[i] - zx[i] * mu[0] - zy[i] * mu[1]).collect()
+    }
+
+    /// The largest nodal applied force: gravity, the inertia force `M a` of the current state, and for
+    /// the actuator torque at time `t` the largest nodal inertia force of the rigid angular
+    /// acceleration it drives, `|M(t)|/I · max_a |(M_mass (e_z × x))_a|` \[N\]. (The torque's own nodal
+    /// forces sit on the short hinge edge and are about a hundred times the nodal gravity forces;
+    /// as a scale they would loosen the residual check for the whole body.)
+    pub(super) fn load_scale(&mut self, t: f64) -> f64 {
+        self.kinematics();
+        let m = &self.model;
+        self.scratch.resize(self.state.a.len(), 0.0);
+        m.mass.apply(&self.state.a, &mut self.scratch);
+        let inertia = self.scratch.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let gravity = m.largest_gravity_force();
+        let torque = m.applied_torque(t, self.held_torque).abs();
+        let mut driven = 0.0;
+        if torque > 0.0 {
+            // M (e_z × x) = e_z × (M x): the nodal inertia forces of a unit angular acceleration
+            let largest = self.mx.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            driven = torque / m.inertia_pivot() * largest;
+        }
+        (inertia + gravity + driven).max(1e-12)
+    }
+
+    /// Best-fit angular velocity and acceleration of the current state \[rad/s, rad/s²\].
+    pub fn angular_rates(&mut self) -> (f64, f64) {
+        let k = self.kinematics();
+        (k.omega, k.alpha)
+    }
+
+    /// Rigid-body measures of the current state (cached until the state changes). With
+    /// `m_x = M x` for the positions `x = X + u`: `∫ ρ t |x|² dA = x·m_x`, and since `M` is symmetric
+    /// and acts on both components alike, `Σ_ab M_ab x_a × w_b = Σ_b (m_x)_b × w_b` for any field `w`:
+    /// one mass product serves the angular velocity, the angular momentum and the angular
+    /// acceleration; a second one (`M v`) the kinetic energy.
+    pub(super) fn kinematics(&mut self) -> Kinematics {
+        if let Some(k) = self.rates {
+            return k;
+        }
+        let m = &self.model;
+        // the pendulum's positions (zeros at the other bodies' nodes: the rigid-body measures are
+        // the pendulum's; the mass matrix couples no two bodies, so M x stays the pendulum's)
+        let mut x = m.positions(&self.state.u);
+        x[2 * m.bodies[0].nodes.end..].iter_mut().for_each(|c| *c = 0.0);
+        self.mx.resize(x.len(), 0.0);
+        m.mass.apply(&x, &mut self.mx);
+        let mx = &self.mx;
+        let cross = |w: &[f64]| -> f64 {
+            (0..x.len() / 2)
+                .map(|b| mx[2 * b] * w[2 * b + 1] - mx[2 * b + 1] * w[2 * b])
+                .sum()
+        };
+        let polar: f64 = x.iter().zip(mx).map(|(a, b)| a * b).sum();
+        let momentum = cross(&self.state.v);
+        let alpha = if m.scheme == Scheme::EnergyMomentum && self.step > 0 {
+            // the consistent end-of-step value: the moment of the external loads at x (the strain
+            // energy's forces and the hinge force have none) over the polar moment of inertia
+            self.scratch.resize(x.len(), 0.0);
+            self.scratch.iter_mut().for_each(|g| *g = 0.0);
+            let cx = StepContext::at(&self.state.u, self.state.t, self.theta, self.held_torque);
+            m.bodies[0].gravity.add_gradient(&self.state.u, &cx, &mut self.scratch);
+            for term in m.loads() {
+                term.add_gradient(&self.state.u, &cx, &mut self.scratch);
+            }
+            let moment: f64 = (0..x.len() / 2)
+                .map(|a| x[2 * a + 1] * self.scratch[2 * a] - x[2 * a] * self.scratch[2 * a + 1])
+                .sum();
+            moment / polar
+        } else {
+            cross(&self.state.a) / polar
+        };
+        self.scratch.resize(x.len(), 0.0);
+        m.mass.apply(&self.state.v, &mut self.scratch);
+        let kinetic = 0.5 * self.state.v.iter().zip(&self.scratch).map(|(a, b)| a * b).sum::<f64>();
+        let k = Kinematics {
+            omega: momentum / polar,
+            alpha,
+            kinetic,
+            momentum,
+        };
+        self.rates = Some(k);
+        k
+    }
+}
