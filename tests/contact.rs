@@ -5,7 +5,7 @@
 mod common;
 
 use pendulum_fem::assembly::Pattern;
-use pendulum_fem::terms::{dense_block, RigidWall, StepContext, StepStart, Term};
+use pendulum_fem::terms::{dense_block, StepContext, StepStart, Term, WallContact};
 use pendulum_fem::{mesh, Config, Mesh};
 
 fn tutorial_mesh() -> Mesh {
@@ -29,14 +29,14 @@ fn shifted(mesh: &Mesh, dx: f64, seed: f64) -> Vec<f64> {
 }
 
 /// The wall 0.1 mm inside the hanging head's leftmost point (x = −0.06 m).
-fn wall(mesh: &Mesh, stiffness: f64) -> RigidWall {
-    RigidWall::new(mesh, "contact_head", -0.0599, stiffness, 0.01, 8).unwrap()
+fn wall(mesh: &Mesh, stiffness: f64) -> WallContact {
+    WallContact::new(mesh, "contact_head", -0.0599, stiffness, 0.01, 8).unwrap()
 }
 
 #[test]
 fn apart_the_wall_has_no_energy_no_force_and_no_stiffness() {
     let mesh = tutorial_mesh();
-    let term = RigidWall::new(&mesh, "contact_head", -0.07, 2e10, 0.01, 8).unwrap();
+    let term = WallContact::new(&mesh, "contact_head", -0.07, 2e10, 0.01, 8).unwrap();
     let u = shifted(&mesh, 0.0, 1.0);
     let pattern = Pattern::new(&mesh, &[]);
     let (mut g, mut k) = (vec![0.0; u.len()], vec![0.0; pattern.nnz()]);
@@ -123,7 +123,7 @@ fn through_an_impact_the_discrete_work_is_the_change_of_contact_energy() {
 
 /// The model of the contact tutorial's deformable wall: its mesh (pendulum, then block), the
 /// contact term, and the first node of the block.
-fn deformable() -> (Mesh, RigidWall, usize) {
+fn deformable() -> (Mesh, WallContact, usize) {
     let mut cfg = Config::default();
     cfg.wall.kind = pendulum_fem::config::WallKind::Deformable;
     let mesh = mesh::generate(&cfg).unwrap();

@@ -410,8 +410,8 @@ const KNOWN_OPEN: &[(usize, &str)] = &[
 /// traction on the hinge edge strains a soft hub past a fifth of its modulus
 /// (`Torque::check_hub_stress`; soft Neo-Hookean plates driven by up to 1 N·m through a rod
 /// 8 mm wide and 5 mm thick), and a head that swings over the pivot and comes round the
-/// deformable wall's face onto the block (`RigidWall::behind_face` on a failed step,
-/// `RigidWall::came_round` on a step taken: the face is its only contact surface). Every other
+/// deformable wall's face onto the block (`WallContact::behind_face` on a failed step,
+/// `WallContact::came_round` on a step taken: the face is its only contact surface). Every other
 /// case must finish.
 fn accepted_error(message: &str) -> bool {
     message.contains("outside the model")

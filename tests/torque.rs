@@ -325,11 +325,11 @@ fn profile_none_adds_no_term_and_a_torque_adds_one() {
     let mesh = common::hanging_rectangle(0.015, 0.1, 2, 4);
     let mut cfg = Config::default();
     let sim = Simulation::from_config(&cfg, mesh.clone()).unwrap();
-    assert!(sim.model.torque.is_none() && sim.model.extra_terms.is_empty());
+    assert!(sim.model.torque.is_none() && sim.model.loads().count() == 0);
     cfg.torque.profile = Kind::Constant;
     cfg.torque.amplitude = 0.5;
     let sim = Simulation::from_config(&cfg, mesh).unwrap();
-    assert!(sim.model.torque.is_some() && sim.model.extra_terms.is_empty());
+    assert!(sim.model.torque.is_some() && sim.model.loads().count() == 1);
     assert_eq!(sim.model.applied_torque(3.0, None), 0.5);
 }
 

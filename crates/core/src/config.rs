@@ -36,7 +36,7 @@ pub use initial::{Initial, InitialAcceleration, InitialElastic};
 pub use material::{Gravity, Material, MaterialModel, Plane};
 pub use output::Output;
 pub use read::PATH_KEYS;
-pub use time::{Cutbacks, Scheme, Solver, Time};
+pub use time::{Cutbacks, Scheme, Solver, StepPlan, Time};
 pub use torque::{Torque, TorqueProfile};
 pub use unknown_key::reports_an_unknown_key;
 pub use wall::{Contact, ContactMethod, Wall, WallKind};

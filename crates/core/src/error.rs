@@ -133,7 +133,7 @@ pub enum Error {
     LinearSolver(String),
     /// The deformable wall's face met the head where the fixed sparsity pattern couples no
     /// nodes (the bodies deformed by more than its margin): the step is refused rather than solved
-    /// with a truncated Jacobian ([`crate::terms::RigidWall::uncoupled_contact`]).
+    /// with a truncated Jacobian ([`crate::terms::WallContact::uncoupled_contact`]).
     ContactOutsidePattern {
         /// Step number (1-based: the step that would reach `t + dt`).
         step: usize,
@@ -143,7 +143,7 @@ pub enum Error {
         message: String,
     },
     /// A step failed where the case leaves the model: the message names the cause (for example
-    /// the head coming round the deformable wall's face, [`crate::terms::RigidWall::behind_face`]).
+    /// the head coming round the deformable wall's face, [`crate::terms::WallContact::behind_face`]).
     OutsideModel {
         /// Step number (1-based: the step that would reach `t + dt`).
         step: usize,

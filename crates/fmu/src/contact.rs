@@ -2,7 +2,7 @@
 //! place: [`contact_outputs`].
 //!
 //! With a wall (`wall_kind` 1), they are the stepper's: the smallest gap of the head's arc to the
-//! face and the wall's normal force ([`pendulum_fem_core::terms::RigidWall`]), and the impacts the
+//! face and the wall's normal force ([`pendulum_fem_core::terms::WallContact`]), and the impacts the
 //! stepper counted (an impact counts when the head first penetrates). Without one, `gap` is the
 //! distance of the deformed head to the plane `x = wall_x` and nothing touches
 //! ([`Simulation::gap`] either way).

@@ -9,7 +9,7 @@
 //!   written as a TOML literal), so they are merged and checked by [`pendulum_fem_core::Config::load`]
 //!   exactly as on the command line.
 //! * **Stepping**: `step(dt)`, `step_to(t_end)` and `run(end, dt)` release the GIL; `run` returns
-//!   the columns of `results.csv` ([`pendulum_fem_core::StepRecord::header`]: with a wall, the contact
+//!   the columns of `results.csv` ([`pendulum_fem_run::rows::header`]: with a wall, the contact
 //!   columns too; [`pendulum_fem_run::rows::csv_values`]) as numpy arrays.
 //! * **Wall**: `gap`, `contact_force`, `impacts`, `in_contact` and `events` (the rows of the CLI's
 //!   `events.csv`) read the stepper's wall ([`pendulum_fem_core::Simulation::gap`]).
@@ -31,7 +31,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 use pendulum_fem_core::config::TorqueProfile;
-use pendulum_fem_core::{mesh, Config, Error, Simulation, Snapshot, StepRecord};
+use pendulum_fem_core::{mesh, Config, Error, Simulation, Snapshot};
 use pendulum_fem_run::rows::{csv_values, EVENTS_HEADER};
 use pendulum_fem_run::StepPlan;
 
@@ -344,7 +344,7 @@ impl PySimulation {
             Ok(rows)
         })?;
         let columns = PyDict::new(py);
-        let header = StepRecord::header(self.sim.model.wall.is_some());
+        let header = pendulum_fem_run::rows::header(self.sim.model.wall.is_some());
         for (j, name) in header.split(',').enumerate() {
             let column: Vec<f64> = rows.iter().map(|r| r[j]).collect();
             columns.set_item(name, PyArray1::from_vec(py, column))?;
@@ -589,7 +589,10 @@ impl PySimulation {
 #[pyfunction]
 #[pyo3(signature = (wall=false))]
 fn csv_columns(wall: bool) -> Vec<String> {
-    StepRecord::header(wall).split(',').map(str::to_string).collect()
+    pendulum_fem_run::rows::header(wall)
+        .split(',')
+        .map(str::to_string)
+        .collect()
 }
 
 /// The header of `events.csv`: the keys of the rows of `Simulation.events`.

@@ -76,7 +76,7 @@ impl WallOutput {
     /// The wall of `cfg` over the model mesh `mesh` (pendulum first); `None` without a wall.
     pub fn of(cfg: &crate::Config, mesh: &Mesh) -> Option<Self> {
         let w = &cfg.wall;
-        if w.kind == crate::config::WallKind::None {
+        if !w.is_present() {
             return None;
         }
         Some(Self {

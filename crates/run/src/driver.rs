@@ -16,9 +16,9 @@ use pendulum_fem_core::{Config, Error};
 use crate::audit::EnergyAudit;
 use crate::checkpoint::{cut_rows_after, resume, write_checkpoint, write_checkpoint_config, CHECKPOINT_SNAP};
 use crate::csv::CsvWriter;
-use crate::plan::StepPlan;
 use crate::prepare_output_dir;
 use crate::rows::{csv_values, write_events};
+use pendulum_fem_core::config::StepPlan;
 
 /// What a run's observers are made from, once its simulation is set up (and, for a restart,
 /// returned to its checkpoint).
@@ -277,7 +277,7 @@ fn run_steps(
     let seconds_setup = t_setup.elapsed().as_secs_f64();
     let t_steps = Instant::now();
     let csv_path = out_dir.join("results.csv");
-    let header = StepRecord::header(sim.model.wall.is_some());
+    let header = crate::rows::header(sim.model.wall.is_some());
     let (earlier, earlier_times) = match opts.restart {
         true => resume(&out_dir, &mut sim)?,
         false => Default::default(),

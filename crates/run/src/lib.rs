@@ -2,7 +2,7 @@
 //!
 //! A run of the pendulum from a configuration to its folder of results, without pictures and
 //! without a terminal: the driver ([`driver::run`]) steps a
-//! [`Simulation`](pendulum_fem_core::Simulation) through its [`plan::StepPlan`], streams
+//! [`Simulation`](pendulum_fem_core::Simulation) through its [`StepPlan`], streams
 //! `results.csv` ([`rows`], [`csv`]), `events.csv` and `impacts.csv`, keeps the energy balance
 //! with its watchdog ([`audit`]), writes checkpoints and restarts from them ([`checkpoint`]), and
 //! leaves `status.json` ([`status`]) however it ends. Pictures, ParaView files and a progress bar
@@ -22,7 +22,6 @@ pub mod driver;
 pub mod files;
 pub mod impacts;
 pub mod outdir;
-pub mod plan;
 pub mod rows;
 pub mod status;
 pub mod study;
@@ -30,5 +29,5 @@ pub mod study;
 pub use audit::EnergyAudit;
 pub use driver::{run, run_with, RunEnd, RunObserver, RunOptions, RunStart, RunSummary};
 pub use outdir::prepare_output_dir;
-pub use plan::StepPlan;
+pub use pendulum_fem_core::config::StepPlan;
 pub use rows::csv_values;

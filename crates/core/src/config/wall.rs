@@ -67,6 +67,12 @@ impl Default for Wall {
 }
 
 impl Wall {
+    /// Whether there is a wall (`kind` other than `"none"`): the one test of it for the model, the
+    /// outputs and the studies.
+    pub fn is_present(&self) -> bool {
+        self.kind != WallKind::None
+    }
+
     /// The `[wall]` rules (the wall's overlap with the pendulum at its release angle is checked
     /// with the mesh, by the model).
     pub(super) fn validate(&self) -> Result<(), Error> {

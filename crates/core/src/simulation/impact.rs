@@ -5,7 +5,7 @@
 //!
 //! 1. **Apart**: every contact point moves on its circle about the pivot as the body turns rigidly
 //!    by `ω s + ½ α s²` from the step's start (the best-fit rates), so the first time a point
-//!    reaches the wall's face is known in closed form ([`RigidWall::first_touch`]). No touch within the step: one step. A touch at `s`: a step
+//!    reaches the wall's face is known in closed form ([`WallContact::first_touch`]). No touch within the step: one step. A touch at `s`: a step
 //!    of length `s` lands the head on the wall; predicted again from there (the step's trajectory
 //!    is not exactly the rigid flight), up to four landings bring the head to within `1e-6 Δt` of the
 //!    touch (to a fraction of a micrometre).
@@ -35,7 +35,7 @@
 //!
 //! Should a step that started apart end inside the wall anyway (a touch the rigid flight did not
 //! foresee), it is taken again up to the first crossing of the straight path between its ends
-//! ([`RigidWall::first_crossing`]). Every impact is reported by its start (the touch) and end (the
+//! ([`WallContact::first_crossing`]). Every impact is reported by its start (the touch) and end (the
 //! time at which the largest penetration returns to zero, interpolated in the last sub-step) with
 //! the impulse of the wall over it ([`ContactEvent`]).
 //!
@@ -65,7 +65,7 @@
 use super::{Simulation, StepRecord};
 use crate::config::WallKind;
 use crate::error::NewtonError;
-use crate::terms::RigidWall;
+use crate::terms::WallContact;
 use crate::Error;
 
 /// Start or end of an impact.
@@ -301,8 +301,8 @@ impl Simulation {
 
     /// The (sub)step just taken from `u0` (started at `t0`, the output step `step` in progress):
     /// a head that came round the deformable wall's face end is outside the model
-    /// ([`RigidWall::came_round`]), and a contact that the fixed sparsity pattern does not cover
-    /// is an error naming it ([`RigidWall::uncoupled_contact`]).
+    /// ([`WallContact::came_round`]), and a contact that the fixed sparsity pattern does not cover
+    /// is an error naming it ([`WallContact::uncoupled_contact`]).
     pub(super) fn check_contact_step(&self, step: usize, t0: f64, u0: &[f64]) -> Result<(), Error> {
         let Some(wall) = self.model.wall.as_ref() else {
             return Ok(());
@@ -366,7 +366,7 @@ impl Simulation {
     /// Books the (sub)step of length `h` from `u0` into the impact in progress: the impulse, the
     /// start event at the first penetration, the end event when no point penetrates any more.
     fn contact_progress(&mut self, u0: &[f64], h: f64) {
-        let wall: &RigidWall = self.model.wall.as_ref().expect("checked");
+        let wall: &WallContact = self.model.wall.as_ref().expect("checked");
         let u1 = &self.state.u;
         let force = wall.step_force(u0, u1);
         let (gap0, gap1) = (wall.smallest_gap(u0), wall.smallest_gap(u1));

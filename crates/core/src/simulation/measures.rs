@@ -42,18 +42,15 @@ impl Simulation {
             kinetic,
             momentum,
         } = self.kinematics();
-        let cx = self.context();
+        let energies = self.energies_with(kinetic);
         let m = &self.model;
         let s = &self.state;
-        let strain = m.strain_energy(&s.u, &cx);
-        let gravity = m.gravity_energy(&s.u, &cx);
         let contact = m.wall.as_ref().map(|w| ContactRecord {
             gap: w.smallest_gap(&s.u),
             force: w.normal_force(&s.u),
-            energy: w.energy(&s.u, &cx),
+            energy: energies.contact,
             impacts: self.impacts,
         });
-        let contact_energy = contact.map_or(0.0, |c| c.energy);
         StepRecord {
             step: self.step,
             time: s.t,
@@ -61,9 +58,9 @@ impl Simulation {
             omega,
             alpha,
             kinetic,
-            strain,
-            gravity,
-            total: kinetic + strain + gravity + contact_energy,
+            strain: energies.strain,
+            gravity: energies.gravity,
+            total: energies.total,
             hinge_force: Hinge::reaction(self.lambda),
             von_mises_max,
             newton_iterations,

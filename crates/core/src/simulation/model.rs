@@ -11,7 +11,7 @@ use crate::constraint::Hinge;
 use crate::newmark::{Newmark, State};
 use crate::post::{NodalStress, RigidProjection};
 use crate::terms::inertia::{BodyMass, MassMatrix};
-use crate::terms::{RigidWall, StepContext, Term, Torque};
+use crate::terms::{StepContext, Term, Torque, WallContact};
 use crate::{Error, Mesh};
 
 /// The name of the hinge boundary.
@@ -23,7 +23,7 @@ pub const CONTACT_BOUNDARY: &str = "contact_head";
 /// With a wall, the pendulum released at `initial.angle_deg` must lie on the face's free side.
 /// `pendulum` holds the pendulum's nodes only (a deformable wall's block stays where it is).
 fn check_wall_clearance(config: &Config, pendulum: &Mesh) -> Result<(), Error> {
-    if config.wall.kind == WallKind::None {
+    if !config.wall.is_present() {
         return Ok(());
     }
     let (s, c) = config.initial.angle_deg.to_radians().sin_cos();
@@ -58,10 +58,9 @@ pub struct Model {
     /// The actuator torque, when `[torque]` has a profile other than `"none"` (its profile is the
     /// configured one, or the value held by [`Simulation::set_torque`]).
     pub torque: Option<Torque>,
-    /// The rigid wall's contact with the head (`wall.kind = "rigid"`).
-    pub wall: Option<RigidWall>,
-    /// Further terms, added by later stages.
-    pub extra_terms: Vec<Box<dyn Term>>,
+    /// The contact of the head with the wall: the rigid half-plane (`wall.kind = "rigid"`) or the
+    /// face of the deformable block (`"deformable"`); `None` without a wall.
+    pub wall: Option<WallContact>,
     /// FNV-1a hashes of the configuration's values (without `time.end`, `[output]` and file paths),
     /// the mesh and the torque table as read: a [`Snapshot`] made for another model is refused
     /// ([`Simulation::restore`]).
@@ -117,7 +116,6 @@ impl Model {
         }
         let (mesh, bodies) = body::build(config, pendulum_mesh, &others)?;
         let hinge = Hinge::new(&bodies[0].mesh, HINGE_BOUNDARY)?;
-        let extra_terms: Vec<Box<dyn Term>> = Vec::new();
         let mut torque = None;
         if config.torque.profile != ProfileKind::None {
             let t = Torque::from_config(&bodies[0].mesh, HINGE_BOUNDARY, &config.torque)?;
@@ -127,7 +125,7 @@ impl Model {
         let wall = match config.wall.kind {
             WallKind::None => None,
             WallKind::Rigid => {
-                let mut wall = RigidWall::new(
+                let mut wall = WallContact::new(
                     &bodies[0].mesh,
                     CONTACT_BOUNDARY,
                     config.wall.x,
@@ -139,7 +137,7 @@ impl Model {
                 Some(wall)
             }
             WallKind::Deformable => {
-                let mut wall = RigidWall::deformable(
+                let mut wall = WallContact::deformable(
                     &mesh,
                     CONTACT_BOUNDARY,
                     crate::mesh::block::FACE,
@@ -164,8 +162,7 @@ impl Model {
         let loads = torque
             .iter()
             .map(|t| t as &dyn Term)
-            .chain(wall.iter().map(|t| t as &dyn Term))
-            .chain(extra_terms.iter().map(|t| t.as_ref()));
+            .chain(wall.iter().map(|t| t as &dyn Term));
         let entries: Vec<(usize, usize)> = loads.flat_map(|t| t.hessian_entries()).collect();
         let pattern = Pattern::new(&mesh, &entries);
         let parts: Vec<BodyMass> = bodies
@@ -196,7 +193,6 @@ impl Model {
             fixed,
             torque,
             wall,
-            extra_terms,
             fingerprint,
             mass,
             hinge,
@@ -316,14 +312,12 @@ impl Model {
             .map_or(0.0, |torque| held.unwrap_or_else(|| torque.value(t)))
     }
 
-    /// The load terms after the bodies' own: the torque (if any), the wall's contact (if any), then
-    /// [`Model::extra_terms`].
+    /// The load terms after the bodies' own: the torque (if any), then the wall's contact (if any).
     pub fn loads(&self) -> impl Iterator<Item = &dyn Term> {
         self.torque
             .iter()
             .map(|t| t as &dyn Term)
             .chain(self.wall.iter().map(|t| t as &dyn Term))
-            .chain(self.extra_terms.iter().map(|t| t.as_ref()))
     }
 
     /// Contact energy of the current state \[J\] (0 without a wall).

@@ -25,7 +25,7 @@ pub struct StepRecord {
     pub strain: f64,
     /// Gravitational energy relative to the pivot height \[J\].
     pub gravity: f64,
-    /// Sum of the three \[J\].
+    /// Total energy: kinetic + strain + gravity + contact (the last 0 without a wall) \[J\].
     pub total: f64,
     /// Force of the hinge on the body \[N\].
     pub hinge_force: [f64; 2],
@@ -55,24 +55,6 @@ pub struct ContactRecord {
     pub energy: f64,
     /// Impacts so far.
     pub impacts: usize,
-}
-
-impl StepRecord {
-    /// CSV header, in this order (without a wall).
-    pub const HEADER: &'static str = "time_s,theta_rad,omega_rad_s,alpha_rad_s2,kinetic_J,strain_J,gravity_J,total_J,\
-hinge_fx_N,hinge_fy_N,von_mises_max_Pa,newton_iterations,torque_Nm,torque_work_J,angular_momentum_kg_m2_s";
-
-    /// The columns a model with a wall adds after [`StepRecord::HEADER`].
-    pub const CONTACT_HEADER: &'static str = "gap_m,contact_force_N,contact_J,impacts";
-
-    /// The CSV header of a run with (`contact`) or without a wall.
-    pub fn header(contact: bool) -> String {
-        if contact {
-            format!("{},{}", Self::HEADER, Self::CONTACT_HEADER)
-        } else {
-            Self::HEADER.to_string()
-        }
-    }
 }
 
 /// The state of the pendulum at one written time, with everything the frame writers need.

@@ -109,7 +109,7 @@ impl Simulation {
 
     /// A failed step's error, or the cause outside the model that explains it: the head's rigid
     /// flight over the step (from the rolled-back start, at the best-fit rates, in eighths) came
-    /// round the deformable wall's face ([`crate::terms::RigidWall::behind_face`]).
+    /// round the deformable wall's face ([`crate::terms::WallContact::behind_face`]).
     fn outside_model(&mut self, e: Error, dt: f64) -> Error {
         let Error::TimeStep { step, t, .. } = e else {
             return e;
@@ -192,6 +192,12 @@ impl Simulation {
     /// Kinetic, strain and gravitational energy of the current state and the torque's work \[J\].
     pub fn energies(&mut self) -> Energies {
         let kinetic = self.kinematics().kinetic;
+        self.energies_with(kinetic)
+    }
+
+    /// The energies of the current state with its kinetic energy \[J\] already computed: the one
+    /// definition of the total energy, for [`Simulation::energies`] and the records.
+    pub(super) fn energies_with(&self, kinetic: f64) -> Energies {
         let cx = self.context();
         let (s, m) = (&self.state, &self.model);
         let strain = m.strain_energy(&s.u, &cx);

@@ -27,7 +27,7 @@
 //! The Hessian entries couple the nodes of one edge, which lie in one element: they are in the
 //! element pattern, and the term writes them (zeros when apart) without extra entries.
 //!
-//! **The deformable face** ([`RigidWall::deformable`]) is the polyline through the block's face
+//! **The deformable face** ([`WallContact::deformable`]) is the polyline through the block's face
 //! nodes. A head point's gap is its distance in `x` to the face segment at its height; past the
 //! face's ends the end segment's line is continued, and the energy fades out over one taper length
 //! `ℓ` (the end segment's reference length) past the end with the smooth factor
@@ -52,7 +52,7 @@
 //! the block's far side, 0.1 m behind the face and nowhere near the block, bounced off the
 //! face's line continued wherever its arc passed within one taper length of the face's ends. A
 //! head that comes round the face's end onto the block itself is outside the model
-//! ([`RigidWall::behind_face`]).
+//! ([`WallContact::behind_face`]).
 //!
 //! **Its Hessian pattern.** A head point can only touch the face at a height fixed by its distance
 //! `r` from the pivot: turning rigidly about the pivot, it meets the plane `x = x_w` at
@@ -60,7 +60,7 @@
 //! of heights, widened by a deformation margin (`reach`: the radius, the face's position and the
 //! segment's ends may move by that much): every pair that can touch when the bodies deform by less
 //! than the margin. A contact outside the coupled pairs (a larger deformation) is reported by
-//! [`RigidWall::uncoupled_contact`], and the simulation stops with an error naming it rather than
+//! [`WallContact::uncoupled_contact`], and the simulation stops with an error naming it rather than
 //! drop the stiffness.
 
 use super::{StepContext, StepStart, Term};
@@ -116,7 +116,7 @@ struct Local {
 impl Local {
     /// `values += c ∇g ∇gᵀ` in the upper triangle of `pattern`. Pairs outside the pattern occur
     /// only on the deformable face (beyond its coupled pairs), where
-    /// [`RigidWall::uncoupled_contact`] stops the step after it; they are skipped.
+    /// [`WallContact::uncoupled_contact`] stops the step after it; they are skipped.
     fn add_outer(&self, c: f64, pattern: &Pattern, values: &mut [f64]) {
         for i in 0..self.n {
             for j in 0..self.n {
@@ -157,10 +157,10 @@ fn taper_secant(e0: f64, e1: f64) -> f64 {
     (taper(e1) - taper(e0)) / (e1 - e0)
 }
 
-/// The wall `x ≤ x_w` against the named boundary (see the module doc); rigid, or with the face of
-/// a deformable body ([`RigidWall::deformable`]).
+/// The contact of the named boundary with a wall whose face is `x = x_w` (see the module doc): a
+/// rigid half-plane `x ≤ x_w`, or the face of a deformable body ([`WallContact::deformable`]).
 #[derive(Clone, Debug)]
-pub struct RigidWall {
+pub struct WallContact {
     /// `x_w`, the wall's face \[m\].
     pub face_x: f64,
     /// `k` \[N/m³\].
@@ -175,7 +175,7 @@ pub struct RigidWall {
     reference: Vec<[f64; 2]>,
 }
 
-impl RigidWall {
+impl WallContact {
     /// The wall at `face_x` with stiffness `stiffness` against the boundary `name` of `mesh`, with
     /// `points_per_edge` Gauss points on every edge (exact arc geometry through the edge's three
     /// nodes) and the body's `thickness`.
@@ -314,7 +314,7 @@ impl RigidWall {
         l
     }
 
-    /// As [`RigidWall::local`], with the `η` of a point however far behind the face.
+    /// As [`WallContact::local`], with the `η` of a point however far behind the face.
     fn local_behind(&self, p: &ContactPoint, u: &[f64]) -> Local {
         let ux: f64 = (0..3).map(|a| p.basis[a] * u[2 * p.nodes[a]]).sum();
         let mut l = Local {
@@ -419,7 +419,7 @@ impl RigidWall {
         }
     }
 
-    /// `∂ψ_d/∂g₁`, the derivative of the secant ([`RigidWall::secant`]) with respect to the gap
+    /// `∂ψ_d/∂g₁`, the derivative of the secant ([`WallContact::secant`]) with respect to the gap
     /// at the end of the step: `½ k` with both ends penetrating, 0 with both apart, and across the
     /// face `(ψ'(g₁) − ψ_d)/(g₁ − g₀)`, which is `k a (a + 2b) / (2 (a + b)²)` entering
     /// (`g₀ = b > 0`, `g₁ = −a`) and `k a² / (2 (a + b)²)` leaving (`g₀ = −a`, `g₁ = b`): never
@@ -436,7 +436,7 @@ impl RigidWall {
     }
 
     /// The resultant in `+x` of the wall's force over a step from `u0` to `u1` as the scheme applies
-    /// it (the secant, or the end-point force with [`RigidWall::end_point`]) \[N\]: its product with
+    /// it (the secant, or the end-point force with [`WallContact::end_point`]) \[N\]: its product with
     /// the step's length is the step's impulse.
     pub fn step_force(&self, u0: &[f64], u1: &[f64]) -> f64 {
         if self.end_point {
@@ -468,7 +468,7 @@ impl RigidWall {
     /// radian, missed touches or placed them late (a plate spun to 90 rad/s then ended its step
     /// millimetres inside a stiff wall). The body's own deformation in the meantime is not
     /// foreseen; a step that ends inside the wall anyway is retaken up to the crossing
-    /// ([`RigidWall::first_crossing`]).
+    /// ([`WallContact::first_crossing`]).
     pub fn first_touch(&self, u: &[f64], omega: f64, alpha: f64, h: f64) -> Option<f64> {
         use std::f64::consts::TAU;
         // the smallest s in (0, h] with ½ α s² + ω s = phi
@@ -560,7 +560,7 @@ impl RigidWall {
             .map(|what| format!("turning on by {turn:.4} rad, {what}"))
     }
 
-    /// As [`RigidWall::behind_face`] over a step taken, from `u0` to `u1`: a step that succeeds
+    /// As [`WallContact::behind_face`] over a step taken, from `u0` to `u1`: a step that succeeds
     /// can carry the head round the face's end too, where the face's energy at its end pushed it
     /// back (seed 20's case 4 of the random-case campaign: the head swung over the pivot came
     /// down 16 mm behind the face's line beyond its end and bounced off the block's top corner,
@@ -569,7 +569,7 @@ impl RigidWall {
         self.arrival(u0, u1).map(|what| format!("over the step, {what}"))
     }
 
-    /// The end of the sentence of [`RigidWall::behind_face`] for the first point of the arc that
+    /// The end of the sentence of [`WallContact::behind_face`] for the first point of the arc that
     /// comes round the face's end from `u0` to `u1`.
     fn arrival(&self, u0: &[f64], u1: &[f64]) -> Option<String> {
         let face = self.face.as_ref()?;
@@ -594,7 +594,7 @@ impl RigidWall {
     }
 
     /// A penetrating point whose head edge and face segment the Hessian pattern does not couple
-    /// (the bodies deformed by more than the margin of [`RigidWall::deformable`]), described for an
+    /// (the bodies deformed by more than the margin of [`WallContact::deformable`]), described for an
     /// error message; `None` when the pattern covers every contact (always for the rigid wall).
     pub fn uncoupled_contact(&self, u: &[f64]) -> Option<String> {
         let face = self.face.as_ref()?;
@@ -654,7 +654,7 @@ impl RigidWall {
     }
 }
 
-impl Term for RigidWall {
+impl Term for WallContact {
     fn name(&self) -> &'static str {
         "contact"
     }
@@ -687,7 +687,7 @@ impl Term for RigidWall {
     /// `k w s ∇g ∇gᵀ` of the penetrating points (for the deformable face without the gap's own
     /// curvature and the taper's derivatives: an approximate Jacobian, as Newton allows), into
     /// the pairs the pattern couples (see the module doc; a contact outside them is reported by
-    /// [`RigidWall::uncoupled_contact`], which the simulation checks after every step).
+    /// [`WallContact::uncoupled_contact`], which the simulation checks after every step).
     fn add_hessian(&self, u: &[f64], _cx: &StepContext, pattern: &Pattern, values: &mut [f64]) {
         for p in &self.points {
             let l = self.local(p, u);
@@ -727,7 +727,7 @@ impl Term for RigidWall {
     }
 
     /// The Jacobian of the secant force over the step, `factor · w ∂ψ_d/∂g₁ ∇g ∇gᵀ` per point
-    /// (`RigidWall::secant_slope`; exact for the rigid wall, whose `g` is linear in `u`; for the
+    /// (`WallContact::secant_slope`; exact for the rigid wall, whose `g` is linear in `u`; for the
     /// deformable face with the taper and gradient at the end of the step). The Hessian
     /// at the end of the step, `k w ∇g ∇gᵀ` of the penetrating points, is wrong across the wall: a
     /// point that just enters gets `k` where the secant is nearly flat, a point that leaves gets 0
@@ -760,7 +760,7 @@ impl Term for RigidWall {
     }
 
     /// The secant of each point's energy along its gap (see the module doc).
-    /// With [`RigidWall::end_point`], the gradient at `u1` instead.
+    /// With [`WallContact::end_point`], the gradient at `u1` instead.
     fn add_discrete_gradient(
         &self,
         start: &StepStart,

@@ -37,7 +37,7 @@ pub mod gravity;
 pub mod inertia;
 pub mod torque;
 
-pub use contact::RigidWall;
+pub use contact::WallContact;
 pub use elastic::Elastic;
 pub use gravity::Gravity;
 pub use inertia::Inertia;
