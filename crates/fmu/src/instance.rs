@@ -372,10 +372,7 @@ impl Instance {
     /// configuration key set by name, `initial.angle_deg` from `theta_start`, and the torque input
     /// declared (`[torque] profile = "constant", amplitude = 0`).
     pub fn config(&self) -> Result<Config, Error> {
-        let mut sets = vec![
-            "torque.profile=\"constant\"".to_string(),
-            "torque.amplitude=0.0".to_string(),
-        ];
+        let mut sets = Vec::new();
         for (v, &value) in VARIABLES.iter().zip(&self.values) {
             match v.role {
                 Role::Config(key) => sets.push(match v.kind {
@@ -396,7 +393,7 @@ impl Instance {
                 _ => {}
             }
         }
-        Config::load(None, &sets)
+        Config::load(None, &sets).map(|c| c.with_torque_input())
     }
 
     /// Checks the parameters that are not configuration keys.

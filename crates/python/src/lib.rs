@@ -30,7 +30,6 @@ use pyo3::exceptions::{PyOSError, PyRuntimeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-use pendulum_fem_core::config::TorqueProfile;
 use pendulum_fem_core::{mesh, Config, Error, Simulation, Snapshot};
 use pendulum_fem_run::rows::{csv_values, EVENTS_HEADER};
 use pendulum_fem_run::StepPlan;
@@ -67,14 +66,6 @@ fn py_err(e: Error) -> PyErr {
 
 /// How often `run` looks for Ctrl-C (in the main thread).
 const SIGNAL_CHECK: std::time::Duration = std::time::Duration::from_millis(50);
-
-/// `cfg` with a torque input declared (`torque.profile = "constant"`, `amplitude = 0`).
-fn with_torque_input(cfg: &Config) -> Config {
-    let mut c = cfg.clone();
-    c.torque.profile = TorqueProfile::Constant;
-    c.torque.amplitude = 0.0;
-    c
-}
 
 /// A Python value as a TOML value (`None`: no value, the key keeps its default).
 fn toml_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<toml::Value>> {
@@ -114,19 +105,32 @@ fn toml_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<toml::Value>> 
     Ok(Some(value))
 }
 
-/// Appends the `key=value` overrides of a dict (nested dicts join their keys with dots).
-fn flatten(prefix: &str, dict: &Bound<'_, PyDict>, out: &mut Vec<String>) -> PyResult<()> {
+/// The `(dotted key, value)` pairs of a dict of configuration keys: nested dicts join their keys
+/// with dots, `None` leaves a key out. The one reading of a configuration dict, for the overrides
+/// of a simulation ([`flatten`]) and a study's cases; `what` starts an error message.
+pub(crate) fn dict_items(prefix: &str, dict: &Bound<'_, PyDict>, what: &str) -> PyResult<Vec<(String, toml::Value)>> {
+    let mut out = Vec::new();
     for (k, v) in dict.iter() {
         let k: String = k
             .extract()
-            .map_err(|_| PyValueError::new_err(format!("configuration keys are strings, got {k:?}")))?;
+            .map_err(|_| PyValueError::new_err(format!("{what}configuration keys are strings, got {k:?}")))?;
         let key = if prefix.is_empty() { k } else { format!("{prefix}.{k}") };
         if let Ok(sub) = v.cast::<PyDict>() {
-            flatten(&key, sub, out)?;
+            out.extend(dict_items(&key, sub, what)?);
         } else if let Some(value) = toml_value(&key, &v)? {
-            out.push(format!("{key}={value}"));
+            out.push((key, value));
         }
     }
+    Ok(out)
+}
+
+/// Appends the `key=value` overrides of a dict ([`dict_items`]).
+fn flatten(dict: &Bound<'_, PyDict>, out: &mut Vec<String>) -> PyResult<()> {
+    out.extend(
+        dict_items("", dict, "")?
+            .into_iter()
+            .map(|(key, value)| format!("{key}={value}")),
+    );
     Ok(())
 }
 
@@ -223,7 +227,7 @@ impl PySimulation {
                  Simulation(torque={\"profile\": \"constant\"})",
             ));
         }
-        let config = with_torque_input(&self.config);
+        let config = self.config.with_torque_input();
         // the pendulum's mesh again (the model's mesh holds every body: a deformable wall's block
         // would be appended twice)
         self.sim = py
@@ -247,7 +251,7 @@ impl PySimulation {
         let mut sets = Vec::new();
         if let Some(c) = config.filter(|c| !c.is_none()) {
             if let Ok(dict) = c.cast::<PyDict>() {
-                flatten("", dict, &mut sets)?;
+                flatten(dict, &mut sets)?;
             } else if c.is_instance_of::<PyString>() || c.hasattr("__fspath__")? {
                 let os = py.import("os")?;
                 let p: std::path::PathBuf = os.call_method1("fspath", (c,))?.extract()?;
@@ -260,7 +264,7 @@ impl PySimulation {
             }
         }
         if let Some(kw) = overrides {
-            flatten("", kw, &mut sets)?;
+            flatten(kw, &mut sets)?;
         }
         let cfg = load_config(path, &sets)?;
         Self::from_config(py, cfg)

@@ -35,19 +35,10 @@ fn toml_key(key: &str) -> String {
         .join(".")
 }
 
-/// Appends the `key = value` lines of a case dict (nested dicts join their keys with dots; `None`
-/// leaves a key at its base value).
-fn case_lines(prefix: &str, dict: &Bound<'_, PyDict>, out: &mut String) -> PyResult<()> {
-    for (k, v) in dict.iter() {
-        let k: String = k
-            .extract()
-            .map_err(|_| PyValueError::new_err(format!("sweep: configuration keys are strings, got {k:?}")))?;
-        let key = if prefix.is_empty() { k } else { format!("{prefix}.{k}") };
-        if let Ok(sub) = v.cast::<PyDict>() {
-            case_lines(&key, sub, out)?;
-        } else if let Some(value) = crate::toml_value(&key, &v)? {
-            out.push_str(&format!("{} = {value}\n", toml_key(&key)));
-        }
+/// Appends the `key = value` lines of a case dict ([`crate::dict_items`]).
+fn case_lines(dict: &Bound<'_, PyDict>, out: &mut String) -> PyResult<()> {
+    for (key, value) in crate::dict_items("", dict, "sweep: ")? {
+        out.push_str(&format!("{} = {value}\n", toml_key(&key)));
     }
     Ok(())
 }
@@ -60,7 +51,7 @@ fn case_plan(cases: &Bound<'_, PyList>) -> PyResult<Plan> {
             .cast::<PyDict>()
             .map_err(|_| PyValueError::new_err(format!("sweep: case {i} is not a dict of configuration keys")))?;
         text.push_str("[[case]]\n");
-        case_lines("", dict, &mut text)?;
+        case_lines(dict, &mut text)?;
     }
     let file = grid::parse_sweep_file(&text, "cases", None).map_err(|e| PyValueError::new_err(e.to_string()))?;
     Ok(file.plans.into_iter().next().unwrap_or_else(Plan::unit))
@@ -113,7 +104,7 @@ pub fn expand<'py>(
 #[pyfunction]
 pub fn overrides_of(config: &Bound<'_, PyDict>) -> PyResult<Vec<String>> {
     let mut out = Vec::new();
-    crate::flatten("", config, &mut out)?;
+    crate::flatten(config, &mut out)?;
     Ok(out)
 }
 
