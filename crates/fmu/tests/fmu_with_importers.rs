@@ -5,7 +5,8 @@
 //!
 //! The FMU is packed from the shared object that cargo built next to this test
 //! (`libpendulum_fem_fmu.so`), with [`pendulum_fem_fmu::package::write_fmu`], as `cargo xtask fmu`
-//! does.
+//! does. The references are the files of the CLI binary itself (`pendulum-fem run`, built beside
+//! these tests), stepped by its own step plan.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -101,58 +102,55 @@ fn run_script(script: &str, args: &[String]) -> String {
     line
 }
 
-/// The CLI's run (`pendulum-fem run --set …`): its configuration from the same overrides, its mesh,
-/// and its stepping loop (`step(time.dt)` from `t = 0`), θ at every step as `time_s,theta_rad`.
-fn cli_theta_csv(overrides: &[String], path: &Path) {
-    let cfg = Config::load(None, overrides).expect("valid overrides");
-    let mut sim = Simulation::from_config(&cfg, mesh::generate(&cfg).expect("mesh")).expect("model");
-    let mut text = String::from("time_s,theta_rad\n");
-    text += &format!("{:?},{:?}\n", sim.time(), sim.theta());
-    for _ in 0..cfg.time.steps() {
-        sim.step(cfg.time.dt).expect("step");
-        text += &format!("{:?},{:?}\n", sim.time(), sim.theta());
+/// The CLI binary that `cargo test --release` builds beside this test (the workspace's default
+/// members include the CLI), so that the FMU is compared with the files the CLI writes.
+fn cli_binary() -> PathBuf {
+    let exe = std::env::current_exe().expect("test executable path");
+    let bin = exe
+        .parent()
+        .and_then(Path::parent)
+        .expect("the profile folder")
+        .join(format!("pendulum-fem{}", std::env::consts::EXE_SUFFIX));
+    assert!(
+        bin.is_file(),
+        "{} not found: these tests compare the FMU with the CLI's files; run `cargo test --release` at the \
+         workspace root (or `cargo build --release` first)",
+        bin.display()
+    );
+    bin
+}
+
+/// Runs the CLI, `pendulum-fem run --set …` with `overrides` (pictures off: they do not feed the CSV
+/// files), into the fresh folder `scratch()/name`; returns the folder, with the CLI's
+/// `results.csv` (and `events.csv` with a wall), stepped by the CLI's own step plan.
+fn cli_run(name: &str, overrides: &[String]) -> PathBuf {
+    let dir = scratch().join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut cmd = Command::new(cli_binary());
+    cmd.args(["run", "-q", "--out"]).arg(&dir);
+    for set in [
+        "output.plots=false",
+        "output.animation=false",
+        "output.paraview=false",
+        "output.viewer=false",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .chain(overrides.iter().cloned())
+    {
+        cmd.args(["--set", &set]);
     }
-    std::fs::write(path, text).expect("reference written");
+    let out = cmd.output().expect("the CLI runs");
+    assert!(
+        out.status.success(),
+        "pendulum-fem run {overrides:?} failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    dir
 }
 
 /// θ at 20° in radians: the FMU's default `theta_start` (the CLI's `initial.angle_deg = 20`).
 const THETA_START: f64 = 0.3490658503988659;
-
-/// The CLI's run with the rigid wall (`--set wall.kind="rigid"` and `overrides`), stepped as the CLI
-/// steps (`step(time.dt)` from `t = 0`): its `results.csv` columns `time_s,theta_rad,gap_m,
-/// contact_force_N,impacts` at every step into `results`, and its `events.csv` (the same rows and
-/// formatting as the CLI's) into `events`.
-fn cli_wall_run(overrides: &[String], results: &Path, events: &Path) {
-    let mut sets = vec!["wall.kind=\"rigid\"".to_string()];
-    sets.extend_from_slice(overrides);
-    let cfg = Config::load(None, &sets).expect("valid overrides");
-    let mut sim = Simulation::from_config(&cfg, mesh::generate(&cfg).expect("mesh")).expect("model");
-    let mut text = String::from("time_s,theta_rad,gap_m,contact_force_N,impacts\n");
-    let row = |sim: &mut Simulation, its: usize| {
-        let r = sim.record(its);
-        let c = r.contact.expect("a model with a wall records its contact");
-        format!("{:?},{:?},{:?},{:?},{}\n", r.time, r.theta, c.gap, c.force, c.impacts)
-    };
-    text += &row(&mut sim, 0);
-    for _ in 0..cfg.time.steps() {
-        let its = sim.step(cfg.time.dt).expect("step");
-        text += &row(&mut sim, its);
-    }
-    std::fs::write(results, text).expect("reference written");
-    let mut rows = String::from("time_s,event,theta_rad,omega_rad_s,impulse_N_s,max_penetration_m\n");
-    for e in sim.contact_events() {
-        rows += &format!(
-            "{},{},{},{},{},{}\n",
-            e.time,
-            e.kind.name(),
-            e.theta,
-            e.omega,
-            e.impulse,
-            e.penetration
-        );
-    }
-    std::fs::write(events, rows).expect("events written");
-}
 
 #[test]
 fn fmpy_validates_the_fmu_and_its_simulation_reproduces_the_cli_theta() {
@@ -161,10 +159,8 @@ fn fmpy_validates_the_fmu_and_its_simulation_reproduces_the_cli_theta() {
     let plain = vec![angle.clone(), "time.end=1.0".into()];
     let mut torque = plain.clone();
     torque.extend(["torque.profile=\"constant\"".to_string(), "torque.amplitude=0.0".into()]);
-    let dir = scratch();
-    let (cli, cli_torque) = (dir.join("cli.csv"), dir.join("cli_zero_torque.csv"));
-    cli_theta_csv(&plain, &cli);
-    cli_theta_csv(&torque, &cli_torque);
+    let cli = cli_run("cli", &plain).join("results.csv");
+    let cli_torque = cli_run("cli_zero_torque", &torque).join("results.csv");
     run_script(
         "validate_and_simulate.py",
         &[
@@ -213,12 +209,11 @@ fn errors_reach_the_importer_as_fmi2error_with_a_logged_reason() {
 fn fmpy_with_the_rigid_wall_reproduces_the_cli_theta_gap_and_impacts() {
     let angle = format!("initial.angle_deg={:?}", THETA_START.to_degrees());
     let plain = vec![angle, "time.end=1.0".into()];
+    let plain: Vec<String> = plain.into_iter().chain(["wall.kind=\"rigid\"".to_string()]).collect();
     let mut torque = plain.clone();
     torque.extend(["torque.profile=\"constant\"".to_string(), "torque.amplitude=0.0".into()]);
-    let dir = scratch();
-    let (cli, cli_torque) = (dir.join("cli_wall.csv"), dir.join("cli_wall_zero_torque.csv"));
-    cli_wall_run(&plain, &cli, &dir.join("cli_wall_events.csv"));
-    cli_wall_run(&torque, &cli_torque, &dir.join("cli_wall_zero_torque_events.csv"));
+    let cli = cli_run("cli_wall", &plain).join("results.csv");
+    let cli_torque = cli_run("cli_wall_zero_torque", &torque).join("results.csv");
     run_script(
         "wall_simulate.py",
         &[
@@ -233,9 +228,8 @@ fn fmpy_with_the_rigid_wall_reproduces_the_cli_theta_gap_and_impacts() {
 fn syssimx_hybrid_algorithm_locates_the_wall_impacts_the_cli_reports() {
     // the CLI's own settings (no torque term), as `pendulum-fem run --set wall.kind="rigid"` runs
     let angle = format!("initial.angle_deg={:?}", THETA_START.to_degrees());
-    let dir = scratch();
-    let events = dir.join("cli_wall_events_0.8.csv");
-    cli_wall_run(&[angle, "time.end=0.8".into()], &dir.join("cli_wall_0.8.csv"), &events);
+    let sets = [angle, "time.end=0.8".into(), "wall.kind=\"rigid\"".into()];
+    let events = cli_run("cli_wall_0.8", &sets).join("events.csv");
     run_script(
         "syssimx_wall_impact.py",
         &[fmu().display().to_string(), events.display().to_string()],

@@ -3,8 +3,8 @@ tau = 0 reproduces the CLI's θ(t) within 1e-9 rad at every output point.
 
 usage: validate_and_simulate.py FMU CLI_CSV CLI_ZERO_TORQUE_CSV
 
-Both CSVs are `results.csv`-like (`time_s,theta_rad`): the CLI's stepping with its defaults (no
-torque term) and with the zero torque declared as the FMU declares it. The FMU must be within
+Both CSVs are the CLI's `results.csv` (`pendulum-fem run`): with its defaults (no torque term) and
+with the zero torque declared as the FMU declares it. The FMU must be within
 1e-9 rad of the first and bit-identical to the second."""
 
 import sys

@@ -3,9 +3,9 @@ reproduces the CLI's θ(t), gap, contact force and impact count at every output 
 
 usage: wall_simulate.py FMU CLI_CSV CLI_ZERO_TORQUE_CSV
 
-Both CSVs are `results.csv`-like (`time_s,theta_rad,gap_m,contact_force_N,impacts`): the CLI's
-stepping with `wall.kind = "rigid"`, without a torque term and with the zero torque declared as the
-FMU declares it. The FMU must be within 1e-9 rad (θ) and 1e-12 m (gap) of the first and
+Both CSVs are the CLI's `results.csv` (`pendulum-fem run --set wall.kind="rigid"`; the columns
+`time_s,theta_rad,gap_m,contact_force_N,impacts` are read), without a torque term and with the zero
+torque declared as the FMU declares it. The FMU must be within 1e-9 rad (θ) and 1e-12 m (gap) of the first and
 bit-identical to the second (θ, gap, force); its contact_count equals the CLI's impacts."""
 
 import sys
