@@ -11,8 +11,8 @@ mod msh;
 use std::sync::OnceLock;
 
 use pendulum_fem::config::{commented_default, Config};
+use pendulum_fem::mesh::gmsh_read::parse_msh;
 use pendulum_fem::render::gmsh::write_msh_to;
-use pendulum_fem::render::gmsh_read::parse_msh;
 use pendulum_fem::simulation::{Simulation, Snapshot};
 use pendulum_fem::terms::TorqueTable;
 use proptest::prelude::*;

@@ -11,9 +11,9 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 use pendulum_fem::commands::run::{run, RunOptions, RunSummary};
+use pendulum_fem::mesh::gmsh_read::{parse_msh, read_msh};
 use pendulum_fem::mesh::{generate, Mesh};
 use pendulum_fem::render::gmsh::write_msh;
-use pendulum_fem::render::gmsh_read::{parse_msh, read_msh};
 use pendulum_fem::Config;
 
 fn scratch(name: &str) -> PathBuf {

@@ -453,7 +453,7 @@ impl PySimulation {
         for e in self.sim.contact_events() {
             let row = PyDict::new(py);
             row.set_item(keys[0], e.time)?;
-            row.set_item(keys[1], e.kind.name())?;
+            row.set_item(keys[1], pendulum_fem_run::rows::event_name(e.kind))?;
             row.set_item(keys[2], e.theta)?;
             row.set_item(keys[3], e.omega)?;
             row.set_item(keys[4], e.impulse)?;

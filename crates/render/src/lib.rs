@@ -8,8 +8,6 @@
 #![warn(missing_docs)]
 
 // The core's modules under the names the writers have always used (`crate::Mesh`, `crate::config`).
-/// The Gmsh reader lives in the core (the mesh generation reads `mesh.file`); re-exported beside the writer.
-pub use pendulum_fem_core::mesh::gmsh_read;
 pub use pendulum_fem_core::simulation::Frame;
 pub(crate) use pendulum_fem_core::{config, mesh, simulation, Config, Error, Mesh};
 pub use pendulum_fem_run::files::write_atomically;
@@ -25,6 +23,7 @@ pub mod summary_plot;
 pub mod viewer;
 pub mod vtm;
 pub mod vtu;
+pub mod wall;
 pub mod writers;
 
 pub use writers::FrameWriters;

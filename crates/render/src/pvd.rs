@@ -27,8 +27,8 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use super::writers::WallOutput;
 use super::{vtu, Field, FieldData, Frame};
+use crate::wall::WallOutput;
 use crate::{Error, Mesh};
 
 pub use pendulum_fem_run::outdir::names::FRAMES_DIR;

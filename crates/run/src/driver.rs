@@ -93,7 +93,7 @@ pub struct RunOptions {
     pub stop: Option<Arc<AtomicBool>>,
     /// Write the latest snapshot to [`CHECKPOINT_SNAP`] in the output folder every this many steps
     /// and when the run ends (completed or interrupted), with the configuration in
-    /// [`CHECKPOINT_TOML`]; `None`: no checkpoints.
+    /// [`CHECKPOINT_TOML`](crate::checkpoint::CHECKPOINT_TOML); `None`: no checkpoints.
     pub checkpoint_every: Option<usize>,
     /// Continue the run in `out` from its [`CHECKPOINT_SNAP`] (see [`run`]).
     pub restart: bool,

@@ -2,7 +2,7 @@
 //! restart), and the rows of `events.csv`.
 
 use pendulum_fem_core::post::unsigned_zero;
-use pendulum_fem_core::simulation::{ContactEvent, ContactRecord, StepRecord};
+use pendulum_fem_core::simulation::{ContactEvent, ContactEventKind, ContactRecord, StepRecord};
 use pendulum_fem_core::Error;
 
 /// A column of `results.csv`: its name, its value in a record, and the record field it fills
@@ -142,6 +142,14 @@ pub fn csv_values(r: &StepRecord) -> Vec<f64> {
         .collect()
 }
 
+/// The name of an event kind in `events.csv` (and the Python package's event rows).
+pub fn event_name(kind: ContactEventKind) -> &'static str {
+    match kind {
+        ContactEventKind::Start => "impact_start",
+        ContactEventKind::End => "impact_end",
+    }
+}
+
 /// Header of `events.csv`.
 pub const EVENTS_HEADER: &str = "time_s,event,theta_rad,omega_rad_s,impulse_N_s,max_penetration_m,max_force_N";
 
@@ -154,7 +162,7 @@ pub(crate) fn write_events(dir: &std::path::Path, events: &[ContactEvent]) -> Re
             [e.time, e.theta, e.omega, e.impulse, e.penetration, e.force].map(unsigned_zero);
         text.push_str(&format!(
             "{time},{},{theta},{omega},{impulse},{penetration},{force}\n",
-            e.kind.name()
+            event_name(e.kind)
         ));
     }
     crate::files::write_atomically(&dir.join("events.csv"), |w| w.write_all(text.as_bytes()))

@@ -77,16 +77,6 @@ pub enum ContactEventKind {
     End,
 }
 
-impl ContactEventKind {
-    /// The name in `events.csv`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Start => "impact_start",
-            Self::End => "impact_end",
-        }
-    }
-}
-
 /// One contact event.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactEvent {
