@@ -36,6 +36,9 @@
 //! (as a campaign: every case asserted). Each failing case is printed as a configuration file that
 //! `pendulum-fem run --config FILE` runs. The campaign prints the distribution of Newton
 //! iterations per step and of cut-backs per case.
+//!
+//! Longer than 600 lines because the campaign keeps its record of the cases found and what was
+//! tried on them (the notes before [`KNOWN_OPEN`]) beside the generator that finds them.
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};

@@ -2,6 +2,9 @@
 //! the follower, `M cos θ` for the fixed-direction load, no net force), the time profiles and the
 //! table file's errors; then whole runs of the real pendulum against the rigid-body equations,
 //! the energy balance and the command line.
+//!
+//! One file for one claim (the torque term is right, from its load to a whole run), longer than
+//! 600 lines because each check is a test of its own.
 
 mod common;
 
