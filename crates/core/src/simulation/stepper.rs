@@ -70,8 +70,8 @@ impl Simulation {
         self.step_with(dt, Clock::at(t_end))
     }
 
-    /// Advances one step of `time.dt` ([`Simulation::step`]) and returns its record (with the
-    /// nodal stresses of [`StepRecord::von_mises_max`]).
+    /// Shorthand for [`Simulation::step`] of `time.dt` followed by [`Simulation::record`] (with the
+    /// nodal stresses of [`StepRecord::von_mises_max`]): the one stepping path, with its record.
     ///
     /// A step whose predicted rotation `|ω| Δt + ½ |α| Δt²` exceeds `time.max_rotation_deg` is split
     /// into 2, 4, 8, … equal sub-steps (powers of two, so the sub-step changes rarely). The
@@ -80,13 +80,6 @@ impl Simulation {
     /// (at most 1.3° per step).
     pub fn advance(&mut self) -> Result<StepRecord, Error> {
         let its = self.step(self.model.config.time.dt)?;
-        Ok(self.record(its))
-    }
-
-    /// Advances one step from the current time to `t_end` (> the current time) and returns its
-    /// record, with the time set to exactly `t_end` ([`Simulation::step_to`]).
-    pub fn advance_to(&mut self, t_end: f64) -> Result<StepRecord, Error> {
-        let its = self.step_to(t_end)?;
         Ok(self.record(its))
     }
 
