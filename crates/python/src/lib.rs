@@ -34,9 +34,9 @@ use pyo3::prelude::*;
 
 use pendulum_fem_run::rows::EVENTS_HEADER;
 
-use errors::{ConvergenceError, OutsideModelError};
+pub use errors::{ConvergenceError, OutsideModelError};
 pub(crate) use overrides::{dict_items, flatten};
-use simulation::PySimulation;
+pub use simulation::PySimulation;
 
 /// The header of `results.csv`: the column names of `Simulation.run`, with the contact columns of
 /// a model with a wall when `wall` is true.
