@@ -1,0 +1,154 @@
+//! The parameters of an instance: values set by value reference, the configuration they stand for
+//! (configuration overrides by name, the torque input declared), their own checks, and the
+//! simulation built from them when first needed.
+
+use pendulum_fem_core::{mesh, Config, Error, Simulation};
+
+use super::{Instance, Phase, Status, SET_PHASES};
+use crate::variables::{Causality, Kind, Role, VARIABLES};
+
+impl Instance {
+    /// The current value of the table entry with this role.
+    pub(super) fn value_of(&self, role: Role) -> f64 {
+        let i = VARIABLES
+            .iter()
+            .position(|v| v.role == role)
+            .expect("role in the table");
+        self.values[i]
+    }
+
+    /// The configuration of the current parameter values: the CLI's defaults, each parameter with a
+    /// configuration key set by name, `initial.angle_deg` from `theta_start`, and the torque input
+    /// declared (`[torque] profile = "constant", amplitude = 0`).
+    pub fn config(&self) -> Result<Config, Error> {
+        let mut sets = Vec::new();
+        for (v, &value) in VARIABLES.iter().zip(&self.values) {
+            match v.role {
+                Role::Config(key) => sets.push(match v.kind {
+                    Kind::Real => format!("{key}={value:?}"),
+                    _ => format!("{key}={}", value as i64),
+                }),
+                Role::ThetaStart => sets.push(format!("initial.angle_deg={:?}", value.to_degrees())),
+                Role::MaxCutbacks => sets.push(match value as i64 {
+                    -1 => "solver.max_cutbacks=\"auto\"".to_string(),
+                    count => format!("solver.max_cutbacks={count}"),
+                }),
+                Role::WallKind => sets.push(match value as i64 {
+                    0 => "wall.kind=\"none\"".to_string(),
+                    1 => "wall.kind=\"rigid\"".to_string(),
+                    2 => "wall.kind=\"deformable\"".to_string(),
+                    other => format!("wall.kind={other}"),
+                }),
+                _ => {}
+            }
+        }
+        Config::load(None, &sets).map(|c| c.with_torque_input())
+    }
+
+    /// Checks the parameters that are not configuration keys.
+    fn check_own_parameters(&self) -> Result<(), String> {
+        let h = self.value_of(Role::MaxInternalStep);
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(format!("max_internal_step = {h}: allowed a finite value > 0 s"));
+        }
+        let w = self.value_of(Role::WallKind);
+        if !(0.0..=2.0).contains(&w) {
+            return Err(format!(
+                "wall_kind = {w}: allowed 0 (none), 1 (rigid) or 2 (deformable)"
+            ));
+        }
+        let t = self.value_of(Role::ThetaStart);
+        if !(-2.0 * std::f64::consts::PI..=2.0 * std::f64::consts::PI).contains(&t) {
+            return Err(format!("theta_start = {t}: allowed -2 pi to 2 pi rad"));
+        }
+        Ok(())
+    }
+
+    /// Builds the simulation if there is none or a parameter changed; errors are logged.
+    pub(super) fn ensure_sim(&mut self) -> Result<(), Status> {
+        if self.sim.is_some() && !self.stale {
+            return Ok(());
+        }
+        if let Err(e) = self.check_own_parameters() {
+            return Err(self.error(&format!("invalid parameter: {e}")));
+        }
+        let built = self.config().and_then(|cfg| {
+            let mesh = mesh::generate(&cfg)?;
+            let mut sim = Simulation::from_config(&cfg, mesh)?;
+            let tau = self.value_of(Role::Tau);
+            if tau != 0.0 {
+                sim.set_torque(tau)?;
+            }
+            Ok(sim)
+        });
+        match built {
+            Ok(sim) => {
+                self.info(&format!(
+                    "model built: {} triangles, {} nodes, theta = {} rad",
+                    sim.model.mesh.triangles.len(),
+                    sim.model.mesh.num_nodes(),
+                    sim.theta()
+                ));
+                self.sim = Some(sim);
+                self.invalidate();
+                self.stale = false;
+                Ok(())
+            }
+            Err(e) => {
+                self.sim = None;
+                Err(self.error(&format!("invalid parameters, the model cannot be built: {e}")))
+            }
+        }
+    }
+
+    /// Sets values by value reference (`fmi2SetReal`, `…Integer`, `…Boolean`): parameters in the
+    /// instantiated state and initialization mode, the input `tau` until `fmi2Terminate`.
+    pub fn set(&mut self, kind: Kind, vrs: &[u32], values: &[f64]) -> Status {
+        let function = match kind {
+            Kind::Real => "fmi2SetReal",
+            Kind::Integer => "fmi2SetInteger",
+            Kind::Boolean => "fmi2SetBoolean",
+        };
+        if let Err(status) = self.check_phase(function, SET_PHASES) {
+            return status;
+        }
+        self.invalidate();
+        for (&vr, &value) in vrs.iter().zip(values) {
+            let Some((i, v)) = crate::variables::lookup(vr, kind) else {
+                return self.error(&format!("{function}: no {kind:?} variable with value reference {vr}"));
+            };
+            match v.causality {
+                Causality::Output => return self.error(&format!("{function}: {} is an output", v.name)),
+                Causality::Parameter if !matches!(self.phase, Phase::Instantiated | Phase::Initialization) => {
+                    return self.error(&format!(
+                        "{function}: {} is a fixed parameter, not settable in the {} state; set it before \
+                         fmi2ExitInitializationMode",
+                        v.name,
+                        self.phase.name()
+                    ));
+                }
+                Causality::Parameter => {
+                    if self.values[i].to_bits() != value.to_bits() {
+                        self.stale = true;
+                    }
+                    self.values[i] = value;
+                }
+                Causality::Input => {
+                    if !value.is_finite() {
+                        return self.error(&format!("{function}: {} = {value} is not finite", v.name));
+                    }
+                    let changed = self.values[i].to_bits() != value.to_bits();
+                    // a refused input leaves the held one in place
+                    if let (true, Some(sim), false) = (changed, self.sim.as_mut(), self.stale) {
+                        if let Err(e) = sim.set_torque(value) {
+                            let t = self.time();
+                            return self.error(&format!("{function}: tau = {value} N.m at t = {t} s: {e}"));
+                        }
+                    }
+                    self.values[i] = value;
+                }
+            }
+        }
+        Status::Ok
+    }
+}

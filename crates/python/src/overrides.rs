@@ -1,0 +1,124 @@
+//! Configuration from Python: a dict of configuration keys (nested or dotted) and keyword values
+//! as TOML values and the CLI's `key=value` overrides, loaded as the CLI loads them (an unknown key
+//! named), and a configuration written back as portable TOML.
+
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+
+use pendulum_fem_core::Config;
+
+use crate::errors::py_err;
+
+/// A Python value as a TOML value (`None`: no value, the key keeps its default).
+fn toml_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<toml::Value>> {
+    if v.is_none() {
+        return Ok(None);
+    }
+    let value = if v.is_instance_of::<PyBool>() {
+        toml::Value::Boolean(v.extract()?)
+    } else if v.is_instance_of::<PyInt>() {
+        toml::Value::Integer(v.extract()?)
+    } else if v.is_instance_of::<PyFloat>() {
+        toml::Value::Float(v.extract()?)
+    } else if v.is_instance_of::<PyString>() {
+        toml::Value::String(v.extract()?)
+    } else if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let mut items = Vec::new();
+        for item in v.try_iter()? {
+            if let Some(x) = toml_value(key, &item?)? {
+                items.push(x);
+            }
+        }
+        toml::Value::Array(items)
+    } else if v.hasattr("__fspath__")? {
+        let os = v.py().import("os")?;
+        toml::Value::String(os.call_method1("fspath", (v,))?.extract()?)
+    } else if let Ok(i) = v.extract::<i64>() {
+        // numpy integers and other objects with __index__
+        toml::Value::Integer(i)
+    } else if let Ok(x) = v.extract::<f64>() {
+        toml::Value::Float(x)
+    } else {
+        return Err(PyValueError::new_err(format!(
+            "configuration key `{key}`: a {} is not a configuration value (numbers, booleans, strings, paths)",
+            v.get_type().name()?
+        )));
+    };
+    Ok(Some(value))
+}
+
+/// The `(dotted key, value)` pairs of a dict of configuration keys: nested dicts join their keys
+/// with dots, `None` leaves a key out. The one reading of a configuration dict, for the overrides
+/// of a simulation ([`flatten`]) and a study's cases; `what` starts an error message.
+pub(crate) fn dict_items(prefix: &str, dict: &Bound<'_, PyDict>, what: &str) -> PyResult<Vec<(String, toml::Value)>> {
+    let mut out = Vec::new();
+    for (k, v) in dict.iter() {
+        let k: String = k
+            .extract()
+            .map_err(|_| PyValueError::new_err(format!("{what}configuration keys are strings, got {k:?}")))?;
+        let key = if prefix.is_empty() { k } else { format!("{prefix}.{k}") };
+        if let Ok(sub) = v.cast::<PyDict>() {
+            out.extend(dict_items(&key, sub, what)?);
+        } else if let Some(value) = toml_value(&key, &v)? {
+            out.push((key, value));
+        }
+    }
+    Ok(out)
+}
+
+/// Appends the `key=value` overrides of a dict ([`dict_items`]).
+pub(crate) fn flatten(dict: &Bound<'_, PyDict>, out: &mut Vec<String>) -> PyResult<()> {
+    out.extend(
+        dict_items("", dict, "")?
+            .into_iter()
+            .map(|(key, value)| format!("{key}={value}")),
+    );
+    Ok(())
+}
+
+/// The keys of `overrides` (`key=value`) that name nothing in the configuration: a part of the key
+/// missing from a section of the default configuration (as JSON; `None` fields are `null`, so every
+/// key is there). Only used to name the key in an error the library already reported.
+fn unknown_keys(overrides: &[String]) -> Vec<String> {
+    let defaults = serde_json::to_value(Config::default()).unwrap_or(serde_json::Value::Null);
+    let mut unknown = Vec::new();
+    for o in overrides {
+        let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k).trim();
+        let mut node = &defaults;
+        for part in key.split('.') {
+            match node.as_object() {
+                Some(section) => match section.get(part) {
+                    Some(next) => node = next,
+                    None => {
+                        unknown.push(key.to_string());
+                        break;
+                    }
+                },
+                None => break,
+            }
+        }
+    }
+    unknown
+}
+
+/// Loads a configuration as the CLI does (`--config FILE --set …`); an unknown key is a
+/// `ValueError` that names it.
+pub(crate) fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResult<Config> {
+    Config::load(path.as_deref(), overrides).map_err(|e| {
+        let message = e.to_string();
+        let unknown = unknown_keys(overrides);
+        if pendulum_fem_core::config::reports_an_unknown_key(&message) && !unknown.is_empty() {
+            let keys: Vec<String> = unknown.iter().map(|k| format!("`{k}`")).collect();
+            PyValueError::new_err(format!("unknown configuration key {} ({message})", keys.join(", ")))
+        } else {
+            py_err(e)
+        }
+    })
+}
+
+/// The configuration as TOML that reads back to the same value (file paths made absolute).
+pub(crate) fn config_toml(cfg: &Config) -> PyResult<String> {
+    pendulum_fem_run::files::portable_toml(cfg, "configuration as TOML")
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))
+}
