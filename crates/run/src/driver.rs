@@ -336,6 +336,9 @@ fn run_steps(
         summary.von_mises_max = summary.von_mises_max.max(r.von_mises_max);
         if let Some(c) = &r.contact {
             summary.take_contact(c, 0.0);
+            // the events up to this record, as the record saw them when it was first written
+            let events = sim.contact_events();
+            impacts.observe(&events[..events.partition_point(|e| e.time <= r.time)], r.theta);
         }
         audit.push(r);
     }
