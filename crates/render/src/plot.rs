@@ -472,7 +472,7 @@ pub(crate) fn draw_mesh<'a, 'b: 'a>(
     Ok(())
 }
 
-/// Draws the legend of `chart` in the upper right corner, in the plots' style.
+/// Draws the legend of `chart` in the upper right corner, in the plots' style (labels of 15 px).
 pub(crate) fn draw_legend<'a, 'b: 'a>(
     chart: &mut ChartContext<
         'a,
@@ -480,10 +480,23 @@ pub(crate) fn draw_legend<'a, 'b: 'a>(
         Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
     >,
 ) -> DrawResult {
+    draw_legend_sized(chart, 15)
+}
+
+/// Draws the legend of `chart` in the upper right corner, in the plots' style, with labels of
+/// `font` px: the one legend style of the run's plots and a sweep's summary figures.
+pub(crate) fn draw_legend_sized<'a, 'b: 'a>(
+    chart: &mut ChartContext<
+        'a,
+        BitMapBackend<'b>,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    font: u32,
+) -> DrawResult {
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
-        .label_font(("sans-serif", 15))
+        .label_font(("sans-serif", font))
         .background_style(WHITE.mix(0.85))
         .border_style(RGBColor(160, 160, 160))
         .draw()?;

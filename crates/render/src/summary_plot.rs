@@ -9,7 +9,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use super::plot::{axis_label, range_of, render_png, DrawResult, Root};
+use super::plot::{axis_label, draw_legend_sized, range_of, render_png, DrawResult, Root};
 use crate::Error;
 
 /// One panel: a metric against the key, one series per combination of the other keys.
@@ -130,13 +130,7 @@ fn draw(root: &Root<'_>, key: &str, log: bool, panels: &[Panel]) -> DrawResult {
             chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
         }
         if legend {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .label_font(("sans-serif", 12))
-                .background_style(WHITE.mix(0.85))
-                .border_style(RGBColor(160, 160, 160))
-                .draw()?;
+            draw_legend_sized(&mut chart, 12)?;
         }
     }
     Ok(())
