@@ -10,12 +10,13 @@ use std::time::Instant;
 
 use pendulum_fem_core::mesh;
 use pendulum_fem_core::post::PeriodEstimator;
-use pendulum_fem_core::simulation::{ContactRecord, Simulation, StepRecord};
+use pendulum_fem_core::simulation::{ContactEvent, Simulation, StepRecord};
 use pendulum_fem_core::{Config, Error};
 
 use crate::audit::EnergyAudit;
 use crate::checkpoint::{cut_rows_after, resume, write_checkpoint, write_checkpoint_config, CHECKPOINT_SNAP};
 use crate::csv::CsvWriter;
+use crate::impacts::ImpactSummary;
 use crate::prepare_output_dir;
 use crate::rows::{csv_values, write_events};
 use pendulum_fem_core::config::StepPlan;
@@ -141,7 +142,7 @@ pub struct RunSummary {
     pub contact: Option<(usize, f64)>,
     /// With a wall: count, interval, restitution and rebound of the impacts (what the summary
     /// reports instead of [`RunSummary::period`], which zero crossings inside the impacts spoil).
-    pub impacts: Option<crate::impacts::ImpactSummary>,
+    pub impacts: Option<ImpactSummary>,
     /// Largest energy error over the run, `max |E(t) − E(0) − W(t)| / energy_scale` (see
     /// [`EnergyAudit`]).
     pub energy_error: f64,
@@ -209,11 +210,28 @@ pub fn run(opts: &RunOptions) -> Result<RunSummary, Error> {
 }
 
 impl RunSummary {
-    /// Takes the contact columns of a record and the largest peak force of the events so far
-    /// into [`RunSummary::contact`]: the impacts so far, and the largest contact force.
-    fn take_contact(&mut self, c: &ContactRecord, peaks: f64) {
-        let largest = self.contact.map_or(0.0, |(_, f)| f);
-        self.contact = Some((c.impacts, largest.max(c.force).max(peaks)));
+    /// Takes a record into the run's figures: θ's range and last value, the period, the largest
+    /// von Mises stress and, with a wall, the impacts and the largest contact force (the record's
+    /// and the peaks between the records, in `events`, the contact events up to the record). The
+    /// one tally for a run's records and a restarted run's records before its checkpoint.
+    fn take_record(
+        &mut self,
+        period: &mut PeriodEstimator,
+        impacts: &mut ImpactSummary,
+        r: &StepRecord,
+        events: &[ContactEvent],
+    ) {
+        period.push(r.time, r.theta);
+        self.theta_range.0 = self.theta_range.0.min(r.theta);
+        self.theta_range.1 = self.theta_range.1.max(r.theta);
+        self.von_mises_max = self.von_mises_max.max(r.von_mises_max);
+        self.theta_final = r.theta;
+        if let Some(c) = &r.contact {
+            impacts.observe(events, r.theta);
+            let peaks = events.iter().map(|e| e.force).fold(0.0, f64::max);
+            let largest = self.contact.map_or(0.0, |(_, f)| f);
+            self.contact = Some((c.impacts, largest.max(c.force).max(peaks)));
+        }
     }
 }
 
@@ -324,22 +342,16 @@ fn run_steps(
     }
     let mut seconds_outputs = 0.0;
     let mut period = PeriodEstimator::default();
-    let mut impacts = crate::impacts::ImpactSummary::default();
+    let mut impacts = ImpactSummary::default();
     let mut audit = EnergyAudit::of(&sim.model);
     let plan = StepPlan::of(&cfg.time);
     summary.last_step = plan.last;
     let stop_requested = || opts.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst));
     for r in &earlier {
-        period.push(r.time, r.theta);
-        summary.theta_range.0 = summary.theta_range.0.min(r.theta);
-        summary.theta_range.1 = summary.theta_range.1.max(r.theta);
-        summary.von_mises_max = summary.von_mises_max.max(r.von_mises_max);
-        if let Some(c) = &r.contact {
-            summary.take_contact(c, 0.0);
-            // the events up to this record, as the record saw them when it was first written
-            let events = sim.contact_events();
-            impacts.observe(&events[..events.partition_point(|e| e.time <= r.time)], r.theta);
-        }
+        // the events up to this record, as the record saw them when it was first written
+        let events = sim.contact_events();
+        let seen = &events[..events.partition_point(|e| e.time <= r.time)];
+        summary.take_record(&mut period, &mut impacts, r, seen);
         audit.push(r);
     }
     let mut record = sim.record(sim.last_newton_iterations());
@@ -372,19 +384,7 @@ fn run_steps(
         if let Err(e) = observe(&sim, &record) {
             break Err(e);
         }
-        period.push(record.time, record.theta);
-        summary.theta_range.0 = summary.theta_range.0.min(record.theta);
-        summary.theta_range.1 = summary.theta_range.1.max(record.theta);
-        summary.von_mises_max = summary.von_mises_max.max(record.von_mises_max);
-        summary.theta_final = record.theta;
-        if sim.model.wall.is_some() {
-            impacts.observe(sim.contact_events(), record.theta);
-        }
-        if let Some(c) = &record.contact {
-            // the peaks between the records are in the events
-            let peaks = sim.contact_events().iter().map(|e| e.force).fold(0.0, f64::max);
-            summary.take_contact(c, peaks);
-        }
+        summary.take_record(&mut period, &mut impacts, &record, sim.contact_events());
         let error = audit.push(&record);
         if cfg.output.energy_watchdog > 0.0 && error > cfg.output.energy_watchdog {
             break Err(audit.divergence(&record, cfg.output.energy_watchdog));
