@@ -13,7 +13,7 @@
 //!
 //! **Files**: one per section or pair of sections (`geometry`: `[geometry]`, `[mesh]`; `material`:
 //! `[material]`, `[gravity]`; `initial`; `time`: `[time]`, `[solver]`; `torque`; `wall`: `[wall]`,
-//! `[contact]`; `output`), `ranges` (the range checks), `read` (files and text), `overrides` (`--set`),
+//! `[contact]`; `output`; `model`), `ranges` (the range checks), `read` (files and text), `overrides` (`--set`),
 //! `unknown_key` (the message for a misspelled key); the commented default file is
 //! `default_config.toml` ([`commented_default`]).
 
@@ -22,6 +22,7 @@ use serde::{Deserialize, Serialize};
 mod geometry;
 mod initial;
 mod material;
+mod model;
 mod output;
 mod overrides;
 mod ranges;
@@ -34,6 +35,7 @@ mod wall;
 pub use geometry::{Geometry, MeshConfig, MeshSizes};
 pub use initial::{Initial, InitialAcceleration, InitialElastic};
 pub use material::{Gravity, Material, MaterialModel, Plane};
+pub use model::{ModelConfig, ModelKind, MAX_MODES};
 pub use output::Output;
 pub use read::PATH_KEYS;
 pub use time::{Cutbacks, Scheme, Solver, StepPlan, Time};
@@ -67,6 +69,8 @@ pub struct Config {
     pub contact: Contact,
     /// What a run writes.
     pub output: Output,
+    /// The full finite-element body or the reduced one.
+    pub model: ModelConfig,
 }
 
 /// A commented configuration listing every key with its default and unit.

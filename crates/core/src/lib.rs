@@ -69,5 +69,6 @@ pub mod newmark;
 pub mod newton;
 pub mod post;
 pub mod quadrature;
+pub mod reduced;
 pub mod simulation;
 pub mod terms;

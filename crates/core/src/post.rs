@@ -221,6 +221,26 @@ impl StressRecovery {
             .fold(0.0, f64::max)
     }
 
+    /// The stress `[σxx, σyy, σxy, σzz]` at every element node (six per element, in element order)
+    /// \[Pa\]: what [`StressRecovery::nodal`] averages, for a linear superposition of fields.
+    pub fn element_node_stresses(&self, material: &Material, u: &[f64]) -> Vec<[f64; 4]> {
+        let mut out = Vec::with_capacity(6 * self.triangles.len());
+        for (e, tri) in self.triangles.iter().enumerate() {
+            for a in 0..6 {
+                let f = deformation_gradient(tri, &self.nodal.grads[e * 6 + a], u);
+                let (s, szz) = material.cauchy_stress(&f);
+                out.push([s[0], s[1], s[2], szz]);
+            }
+        }
+        out
+    }
+
+    /// The element nodes' mesh nodes (six per element, in element order) and each node's number of
+    /// elements.
+    pub fn element_nodes(&self) -> (Vec<usize>, &[f64]) {
+        (self.triangles.iter().flatten().copied().collect(), &self.counts)
+    }
+
     /// Averaged nodal fields and the maximum.
     pub fn nodal(&self, material: &Material, u: &[f64]) -> NodalStress {
         let nn = self.counts.len();

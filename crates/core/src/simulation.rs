@@ -50,6 +50,7 @@ mod init;
 mod measures;
 mod model;
 mod record;
+mod reduced;
 mod schemes;
 mod snapshot;
 pub mod split;
@@ -118,6 +119,9 @@ pub struct Simulation {
     /// The sub-step ends of the impact in progress, for the predictor of a chattering contact.
     impact_trail: impact::ImpactTrail,
     scratch: Vec<f64>,
+    /// The reduced body's coordinates and momenta (`model.kind = "reduced"`), from which
+    /// [`Simulation::state`] is reconstructed after every step.
+    reduced: Option<crate::reduced::ReducedState>,
     /// `(t, α)` at the start of the previous (sub)step, for the predictor's `α̇`.
     previous_alpha: Option<(f64, f64)>,
     /// Rigid-body measures of the current state, once computed.

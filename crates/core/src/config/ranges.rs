@@ -19,7 +19,8 @@ impl Config {
         self.torque.validate()?;
         self.wall.validate()?;
         self.contact.validate(&self.wall, self.time.scheme)?;
-        self.output.validate()
+        self.output.validate()?;
+        self.model.validate(self)
     }
 }
 

@@ -49,6 +49,7 @@ impl Simulation {
             rates: None,
             mx: Vec::new(),
             mass_solver: None,
+            reduced: None,
             model,
         };
         sim.initialize()?;
@@ -75,7 +76,9 @@ impl Simulation {
         let fx: f64 = ma.iter().step_by(2).sum();
         let fy: f64 = ma.iter().skip(1).step_by(2).sum::<f64>() + weight;
         sim.lambda = [-fx, -fy];
-        if sim.model.config.initial.elastic_state() == InitialElastic::Equilibrium {
+        if sim.model.reduced.is_some() {
+            sim.initialize_reduced();
+        } else if sim.model.config.initial.elastic_state() == InitialElastic::Equilibrium {
             sim.equilibrate()?;
         }
         let theta0 = sim.model.projection.angle(&sim.state.u);

@@ -45,9 +45,9 @@ impl Simulation {
         let energies = self.energies_with(kinetic);
         let m = &self.model;
         let s = &self.state;
-        let contact = m.wall.as_ref().map(|w| ContactRecord {
-            gap: w.smallest_gap(&s.u),
-            force: w.normal_force(&s.u),
+        let contact = m.wall.as_ref().map(|_| ContactRecord {
+            gap: self.gap(),
+            force: self.contact_force(),
             energy: energies.contact,
             impacts: self.impacts,
         });
@@ -183,6 +183,10 @@ impl Simulation {
     /// acceleration; a second one (`M v`) the kinetic energy.
     pub(super) fn kinematics(&mut self) -> Kinematics {
         if let Some(k) = self.rates {
+            return k;
+        }
+        if let Some(k) = self.reduced_kinematics() {
+            self.rates = Some(k);
             return k;
         }
         let m = &self.model;

@@ -6,10 +6,13 @@ use super::{body, snapshot, Body, BodySpec, Fingerprint};
 #[cfg(doc)]
 use super::{Simulation, Snapshot};
 use crate::assembly::{Dirichlet, Pattern};
-use crate::config::{Config, ContactMethod, InitialAcceleration, Scheme, TorqueProfile as ProfileKind, WallKind};
+use crate::config::{
+    Config, ContactMethod, InitialAcceleration, ModelKind, Scheme, TorqueProfile as ProfileKind, WallKind,
+};
 use crate::constraint::Hinge;
 use crate::newmark::{Newmark, State};
 use crate::post::{NodalStress, RigidProjection};
+use crate::reduced::ReducedBody;
 use crate::terms::inertia::{BodyMass, MassMatrix};
 use crate::terms::{StepContext, Term, Torque, WallContact};
 use crate::{Error, Mesh};
@@ -77,6 +80,9 @@ pub struct Model {
     pub hht_alpha: f64,
     /// The time integration scheme.
     pub scheme: Scheme,
+    /// The reduced body (`model.kind = "reduced"`), which then carries the dynamics; the fields of
+    /// the full model are reconstructed from it for the outputs.
+    pub reduced: Option<ReducedBody>,
 }
 
 impl Model {
@@ -185,7 +191,7 @@ impl Model {
             Scheme::Trapezoidal | Scheme::EnergyMomentum => 0.0,
             Scheme::Hht => config.time.hht_alpha,
         };
-        Ok(Self {
+        let mut model = Self {
             config: config.clone(),
             mesh,
             bodies,
@@ -200,7 +206,12 @@ impl Model {
             newmark: Newmark::hht(hht_alpha),
             hht_alpha,
             scheme: config.time.scheme,
-        })
+            reduced: None,
+        };
+        if config.model.kind == ModelKind::Reduced {
+            model.reduced = Some(crate::reduced::basis::for_model(&model)?);
+        }
+        Ok(model)
     }
 
     /// The shortest of the bodies' wave times ([`Body::wave_time`]) \[s\]: how far

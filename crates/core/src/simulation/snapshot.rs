@@ -54,6 +54,7 @@ use super::{Clock, ContactEvent, Simulation};
 use crate::newmark::State;
 use crate::newton::FactorState;
 use crate::post::Unwrap;
+use crate::reduced::ReducedState;
 use crate::Error;
 
 /// The complete state of a [`Simulation`] (see the module doc).
@@ -77,6 +78,7 @@ pub struct Snapshot {
     contact_phase: Option<ContactPhase>,
     impact_trail: ImpactTrail,
     factor: Option<Arc<FactorState>>,
+    reduced: Option<ReducedState>,
 }
 
 /// A point to roll back to within a run (see the module doc): the snapshot without the contact
@@ -137,6 +139,7 @@ impl Simulation {
             contact_phase: self.contact_phase,
             impact_trail: self.impact_trail.clone(),
             factor: self.solver.factor_state(),
+            reduced: self.reduced.clone(),
         }
     }
 
@@ -193,6 +196,7 @@ impl Simulation {
         self.impacts = s.impacts;
         self.contact_phase = s.contact_phase;
         self.impact_trail = s.impact_trail.clone();
+        self.reduced = s.reduced.clone();
         self.rates = None;
         // The matrix was factorised before with this symbolic analysis; should that fail now, the
         // next step factorises afresh.

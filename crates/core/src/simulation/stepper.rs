@@ -89,7 +89,7 @@ impl Simulation {
             Ok(its) => {
                 self.clock = clock;
                 self.state.t = clock.time();
-                self.theta = self.unwrap.next(self.model.projection.angle(&self.state.u));
+                self.theta = self.unwrap.next(self.proxy_angle());
                 self.last_iterations = its;
                 Ok(its)
             }
@@ -193,9 +193,18 @@ impl Simulation {
     pub(super) fn energies_with(&self, kinetic: f64) -> Energies {
         let cx = self.context();
         let (s, m) = (&self.state, &self.model);
-        let strain = m.strain_energy(&s.u, &cx);
-        let gravity = m.gravity_energy(&s.u, &cx);
-        let contact = m.contact_energy(&s.u, &cx);
+        let (strain, gravity, contact) = match (&m.reduced, &self.reduced) {
+            (Some(body), Some(r)) => (
+                body.strain(&r.q),
+                body.gravity(r, m.config.gravity.g),
+                m.wall.as_ref().map_or(0.0, |w| body.contact(r, w).0),
+            ),
+            _ => (
+                m.strain_energy(&s.u, &cx),
+                m.gravity_energy(&s.u, &cx),
+                m.contact_energy(&s.u, &cx),
+            ),
+        };
         Energies {
             kinetic,
             strain,
@@ -211,6 +220,9 @@ impl Simulation {
     /// `results.csv`); without one, the smallest signed distance of the arc's nodes to the plane
     /// `x = wall.x` (`+∞` for a mesh without the arc).
     pub fn gap(&self) -> f64 {
+        if let (Some(body), Some(r), Some(wall)) = (&self.model.reduced, &self.reduced, &self.model.wall) {
+            return body.contact(r, wall).1;
+        }
         let u = &self.state.u;
         if let Some(wall) = &self.model.wall {
             return wall.smallest_gap(u);
@@ -226,6 +238,9 @@ impl Simulation {
     /// column of `results.csv`, a negative zero as 0); 0 without a wall. The one reading of the
     /// contact force for the FMU's and the Python package's outputs.
     pub fn contact_force(&self) -> f64 {
+        if let (Some(body), Some(r), Some(wall)) = (&self.model.reduced, &self.reduced, &self.model.wall) {
+            return crate::post::unsigned_zero(body.contact(r, wall).2);
+        }
         self.model
             .wall
             .as_ref()
@@ -250,12 +265,18 @@ impl Simulation {
     /// Nodal Cauchy and von Mises stresses of the current state (computed on this call).
     pub fn nodal_stress(&mut self) -> NodalStress {
         self.stress_evaluations += 1;
+        if let (Some(body), Some(r)) = (&self.model.reduced, &self.reduced) {
+            return body.nodal_stress(r);
+        }
         self.model.nodal_stress(&self.state.u)
     }
 
     /// The largest nodal von Mises stress of the current state \[Pa\] (computed on this call).
     pub fn von_mises_max(&mut self) -> f64 {
         self.stress_evaluations += 1;
+        if let (Some(body), Some(r)) = (&self.model.reduced, &self.reduced) {
+            return body.von_mises_max(r);
+        }
         self.model.max_von_mises(&self.state.u)
     }
 

@@ -16,6 +16,9 @@ const EM_MAX_TURN: f64 = std::f64::consts::FRAC_PI_2;
 impl Simulation {
     /// Advances by `dt`, halving on failure; returns the Newton iterations used.
     pub(super) fn advance_by(&mut self, dt: f64) -> Result<usize, (NewtonError, f64)> {
+        if self.model.reduced.is_some() {
+            return self.advance_reduced(dt);
+        }
         self.advance_split(dt, 0, 0).map(|(its, _)| its)
     }
 

@@ -10,11 +10,13 @@ use super::fnv::fnv1a;
 use super::{Fingerprint, Snapshot};
 use crate::newmark::State;
 use crate::newton::FactorState;
+use crate::reduced::step::Factor;
+use crate::reduced::ReducedState;
 use crate::Error;
 
 /// Version of the byte format of [`Snapshot::to_bytes`] (3: the fingerprint in three parts, without
-/// file paths; 4: the impact's last sub-step ends).
-pub const SNAPSHOT_VERSION: u32 = 4;
+/// file paths; 4: the impact's last sub-step ends; 5: the reduced body's coordinates, velocities and step Jacobian).
+pub const SNAPSHOT_VERSION: u32 = 5;
 
 const MAGIC: &[u8; 8] = b"PFEMSNAP";
 
@@ -186,6 +188,25 @@ impl Snapshot {
             }
             None => w.u8(0),
         }
+        match &self.reduced {
+            Some(r) => {
+                w.u8(1);
+                w.f64(r.theta);
+                w.vec(&r.q);
+                w.vec(&r.v);
+                match &r.jacobian {
+                    Some(j) => {
+                        w.u8(1);
+                        w.f64(j.step);
+                        w.vec(&j.lu);
+                        w.usize(j.pivots.len());
+                        j.pivots.iter().for_each(|&p| w.usize(p));
+                    }
+                    None => w.u8(0),
+                }
+            }
+            None => w.u8(0),
+        }
         let sum = fnv1a(&w.0);
         w.u64(sum);
         w.0
@@ -305,6 +326,31 @@ impl Snapshot {
         } else {
             None
         };
+        let reduced = if r.flag("reduced body")? {
+            Some(ReducedState {
+                theta: r.f64("reduced body")?,
+                q: r.vec("reduced body")?,
+                v: r.vec("reduced body")?,
+                jacobian: if r.flag("reduced body")? {
+                    let step = r.f64("reduced body")?;
+                    let lu = r.vec("reduced body")?;
+                    let count = r.usize("reduced body")?;
+                    let pivots = (0..count)
+                        .map(|_| r.usize("reduced body"))
+                        .collect::<Result<Vec<_>, Error>>()?;
+                    if lu.len() != pivots.len() * pivots.len() || pivots.iter().any(|&p| p >= pivots.len()) {
+                        return Err(Error::Input(format!(
+                            "{source}: the reduced body's Jacobian is damaged"
+                        )));
+                    }
+                    Some(Factor { step, lu, pivots })
+                } else {
+                    None
+                },
+            })
+        } else {
+            None
+        };
         if r.pos != body.len() {
             return Err(Error::Input(format!(
                 "{source}: {} unexpected bytes after the snapshot at byte {}",
@@ -331,6 +377,7 @@ impl Snapshot {
             contact_phase,
             impact_trail,
             factor,
+            reduced,
         })
     }
 }

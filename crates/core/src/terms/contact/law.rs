@@ -36,8 +36,8 @@ impl WallContact {
     }
 
     /// The secant of each point's energy density along its gap (see the module doc), `ψ'(g)` when
-    /// the ends coincide.
-    pub(super) fn secant(&self, g0: f64, g1: f64) -> f64 {
+    /// the ends coincide \[N/m³·m = Pa\].
+    pub fn secant(&self, g0: f64, g1: f64) -> f64 {
         let k = self.stiffness;
         if g0 <= 0.0 && g1 <= 0.0 {
             0.5 * k * (g0 + g1)

@@ -25,6 +25,12 @@ pub(super) struct ContactPoint {
 }
 
 impl WallContact {
+    /// The arc's quadrature points: the edge's `[start, end, mid]` nodes, the edge basis at the
+    /// point and its weight (reference arc length times thickness \[m²\]).
+    pub fn arc_points(&self) -> impl Iterator<Item = ([usize; 3], [f64; 3], f64)> + '_ {
+        self.points.iter().map(|p| (p.nodes, p.basis, p.weight))
+    }
+
     /// The wall at `face_x` with stiffness `stiffness` against the boundary `name` of `mesh`, with
     /// `points_per_edge` Gauss points on every edge (exact arc geometry through the edge's three
     /// nodes) and the body's `thickness`.

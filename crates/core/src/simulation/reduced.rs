@@ -1,0 +1,124 @@
+//! A [`Simulation`] of a reduced body (`model.kind = "reduced"`, [`crate::reduced`]): its initial
+//! state, its steps, and the full model's fields reconstructed from it after each step, so that
+//! the outputs, the impacts' location and the records read the same state as the full model's.
+//!
+//! The hinge force over a step is the balance of linear momentum of the reduced motion,
+//! `F_hinge = (P₁ − P₀)/h − m g − F_wall` \[N\] (`F_wall` the wall's mean force over the step), the
+//! full model's multiplier `−λ` of the same step.
+
+use super::{Kinematics, Simulation};
+use crate::error::NewtonError;
+use crate::reduced::Loads;
+
+impl Simulation {
+    /// The reduced body's initial state (with the current torque input), and the fields.
+    pub(super) fn initialize_reduced(&mut self) {
+        let Some(body) = &self.model.reduced else {
+            return;
+        };
+        let torque0 = self.model.applied_torque(0.0, self.held_torque);
+        let r = body.initial_state(&self.model.config, torque0);
+        body.fields(&r, &mut self.state.u, &mut self.state.v);
+        self.reduced = Some(r);
+        self.rates = None;
+    }
+
+    /// The reduced body's coordinates and momenta, `None` for the full model.
+    pub fn reduced_state(&self) -> Option<&crate::reduced::ReducedState> {
+        self.reduced.as_ref()
+    }
+
+    /// Advances the reduced body by `h`, halving a step whose Newton iterations fail as
+    /// `solver.max_cutbacks` allows (as the full model's steps, [`crate::config::Cutbacks`]);
+    /// returns the iterations, or the failure and the shortest step tried.
+    pub(super) fn advance_reduced(&mut self, h: f64) -> Result<usize, (NewtonError, f64)> {
+        self.advance_reduced_at(h, 0)
+    }
+
+    fn advance_reduced_at(&mut self, h: f64, depth: usize) -> Result<usize, (NewtonError, f64)> {
+        match self.reduced_step(h) {
+            Ok(its) => Ok(its),
+            Err((e, _)) => {
+                let allowed = self
+                    .model
+                    .config
+                    .solver
+                    .max_cutbacks
+                    .allows(depth, h, self.model.wave_time());
+                if !allowed {
+                    return Err((e, h));
+                }
+                self.cutbacks += 1;
+                let a = self.advance_reduced_at(0.5 * h, depth + 1)?;
+                let b = self.advance_reduced_at(0.5 * h, depth + 1)?;
+                Ok(e.iterations() + a + b)
+            }
+        }
+    }
+
+    /// One step of length `h` of the reduced body; the fields, multipliers and the torque's work
+    /// follow. On failure nothing changes.
+    fn reduced_step(&mut self, h: f64) -> Result<usize, (NewtonError, f64)> {
+        let (Some(body), Some(r0)) = (&self.model.reduced, &self.reduced) else {
+            unreachable!("advance_reduced is called for a reduced model")
+        };
+        let m = &self.model;
+        let t0 = self.state.t;
+        let torque = 0.5 * (m.applied_torque(t0, self.held_torque) + m.applied_torque(t0 + h, self.held_torque));
+        let g = m.config.gravity.g;
+        let loads = Loads {
+            gravity: g,
+            torque,
+            wall: m.wall.as_ref(),
+        };
+        let (r1, report) = body.step(r0, h, &loads).map_err(|e| {
+            (
+                NewtonError::MaxIterations {
+                    iterations: e.iterations,
+                    energy_norm: f64::NAN,
+                    residual: e.update,
+                    forces: 0.0,
+                },
+                h,
+            )
+        })?;
+        let (p0, p1) = (body.linear_momentum(r0), body.linear_momentum(&r1));
+        let f = report.contact_force;
+        // F_hinge = ΔP/h − m g − F_wall, g = (0, −g)
+        let hinge = [(p1[0] - p0[0]) / h - f[0], (p1[1] - p0[1]) / h + body.mass * g - f[1]];
+        self.lambda = [-hinge[0], -hinge[1]];
+        self.torque_work += torque * (r1.theta - r0.theta);
+        body.fields(&r1, &mut self.state.u, &mut self.state.v);
+        self.state.t = t0 + h;
+        self.reduced = Some(r1);
+        self.rates = None;
+        // the branch of θ for the next (sub)step's context
+        self.theta = self.unwrap.next(self.proxy_angle());
+        Ok(report.iterations)
+    }
+
+    /// The proxy angle of the current state, on `(−π, π]` for the full model ([`crate::post::RigidProjection`]) and on the frame's branch for a reduced body \[rad\].
+    pub(super) fn proxy_angle(&self) -> f64 {
+        match (&self.model.reduced, &self.reduced) {
+            (Some(body), Some(r)) => body.proxy_angle(r),
+            _ => self.model.projection.angle(&self.state.u),
+        }
+    }
+
+    /// The rigid-body measures of a reduced body's state (see [`crate::reduced::outputs`]),
+    /// `None` for the full model.
+    pub(super) fn reduced_kinematics(&self) -> Option<Kinematics> {
+        let (Some(body), Some(r)) = (&self.model.reduced, &self.reduced) else {
+            return None;
+        };
+        let m = &self.model;
+        let torque = m.applied_torque(self.state.t, self.held_torque);
+        let (omega, alpha) = body.rates(r, m.config.gravity.g, torque, m.wall.as_ref());
+        Some(Kinematics {
+            omega,
+            alpha,
+            kinetic: body.kinetic(r),
+            momentum: body.momenta(r)[0],
+        })
+    }
+}
