@@ -93,9 +93,9 @@ fn the_frequencies_converge_towards_ngsolve_under_mesh_refinement() {
     }
 }
 
-/// The checks of the eigensolver, recomputed here: residual `‖Kφ − ω²Mφ + Cᵀμ‖` relative to
-/// `‖(K − σM)φ‖ + |ω² − σ|‖Mφ‖` below 1e-8 (the Lanczos tolerance is 1e-11 on the shift-inverted
-/// operator; the factorisation's condition number costs a few digits), `M`-orthonormality to
+/// The checks of the eigensolver, recomputed here: the backward error
+/// `‖Kφ − ω²Mφ + Cᵀμ‖ / ((‖K‖ + ω²‖M‖)‖φ‖)` below 1e-12 (measured 7e-14 on meshes of 5k to 120k
+/// unknowns; the Lanczos tolerance is 1e-11 on the shift-inverted operator), `M`-orthonormality to
 /// 1e-10 (full reorthogonalisation keeps it at rounding level), the hinge rows to 1e-12 of
 /// `‖C‖‖φ‖` (the constraints are eliminated exactly, up to rounding), and the rigid mode is the
 /// rotation about the pivot.
@@ -109,9 +109,9 @@ fn the_eigenpairs_have_small_residuals_are_mass_orthonormal_and_keep_the_hinge()
     let modes = modal::constrained_modes(&model.pattern, &k, &model.mass, &c, 21, shift).unwrap();
     assert_eq!(modes.eigenvalues.len(), 21);
     assert!(modes.eigenvalues.windows(2).all(|w| w[0] <= w[1]), "ascending");
-    let [residual, orthonormality, hinge] = modal::verify(&model.pattern, &k, &model.mass, &c, shift, &modes);
+    let [residual, orthonormality, hinge] = modal::verify(&model.pattern, &k, &model.mass, &c, &modes);
     println!("residual {residual:.2e}, orthonormality {orthonormality:.2e}, hinge {hinge:.2e}");
-    assert!(residual < 1e-8, "{residual}");
+    assert!(residual < 1e-12, "{residual}");
     assert!(orthonormality < 1e-10, "{orthonormality}");
     assert!(hinge < 1e-12, "{hinge}");
     // and the hinge's mean displacement of every shape, against the shape's largest nodal one
