@@ -40,7 +40,7 @@ enum Command {
     Modes {
         #[command(flatten)]
         cfg: ConfigArgs,
-        /// Elastic modes to compute besides the rigid rotation (1 to 100).
+        /// Elastic modes to compute besides the rigid rotation (1 to 50).
         #[arg(long, value_name = "N", default_value_t = 10, allow_negative_numbers = true)]
         n: i64,
         /// Output folder (default: `modes`).

@@ -246,11 +246,11 @@ fn the_modes_command_writes_json_pvd_and_png_with_the_same_frequencies() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `--n` outside 1..=100 fails with a message naming the option and the allowed range, exit
+/// `--n` outside 1..=50 fails with a message naming the option and the allowed range, exit
 /// code non-zero, and nothing is written.
 #[test]
 fn a_bad_mode_count_fails_naming_the_option_and_the_allowed_range() {
-    for bad in ["0", "-3", "101"] {
+    for bad in ["0", "-3", "51"] {
         let dir = scratch(&format!("bad{bad}"));
         let out = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
             .args(["modes", "--n", bad, "-o"])
@@ -260,7 +260,7 @@ fn a_bad_mode_count_fails_naming_the_option_and_the_allowed_range() {
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "--n {bad} accepted");
         assert!(
-            stderr.contains(&format!("--n {bad}")) && stderr.contains("allowed 1 to 100"),
+            stderr.contains(&format!("--n {bad}")) && stderr.contains("allowed 1 to 50"),
             "--n {bad}: {stderr}"
         );
         assert!(!dir.exists(), "--n {bad} wrote {}", dir.display());

@@ -14,7 +14,7 @@
 //!   configured wall is ignored with a note.
 //! * **the torque** (`[torque]`): a load, not a stiffness at rest.
 //!
-//! `n` elastic modes are computed (1 to [`MAX_MODES`]) besides the rigid one, by shift-invert
+//! `n` elastic modes are computed (1 to [`MAX_MODES`] = 50) besides the rigid one, by shift-invert
 //! Lanczos about [`modal::rest_shift`]. Files in the output folder: `modes.json` (the table,
 //! the checks and the timings), `modes.pvd` with `modes/mode_NN.vtu` (mode 0 the rigid rotation;
 //! [`crate::render::modes`]) and `modes.png` (the first elastic modes).
@@ -27,8 +27,11 @@ use crate::modal::{self, Modes};
 use crate::render::modes::{write_modes_png, write_modes_pvd, ModeView};
 use crate::{mesh, Config, Error, Model};
 
-/// Largest number of elastic modes `--n` accepts.
-pub const MAX_MODES: usize = 100;
+/// Largest number of elastic modes `--n` accepts. Up to 50 the pairs pass the eigensolver's
+/// checks (backward errors at most 2e-12 on meshes of 5k to 40k unknowns, bar 1e-10); asking the default
+/// mesh for 100 fails the check (backward errors up to 3e-6 from about the 55th mode on, whose
+/// Lanczos estimates nevertheless count as converged), not yet understood.
+pub const MAX_MODES: usize = 50;
 
 /// One row of the table.
 #[derive(Clone, Debug, PartialEq)]
