@@ -35,6 +35,21 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Natural frequencies and mode shapes of the pinned pendulum about the undeformed state:
+    /// a table, DIR/modes.json, DIR/modes.pvd (one .vtu per mode) and DIR/modes.png.
+    Modes {
+        #[command(flatten)]
+        cfg: ConfigArgs,
+        /// Elastic modes to compute besides the rigid rotation (1 to 50).
+        #[arg(long, value_name = "N", default_value_t = 10, allow_negative_numbers = true)]
+        n: i64,
+        /// Output folder (default: `modes`).
+        #[arg(long, short = 'o', value_name = "DIR", default_value = "modes")]
+        out: PathBuf,
+        /// Print the report as one JSON object (the content of modes.json).
+        #[arg(long)]
+        json: bool,
+    },
     /// Measure speed and memory (see `pendulum-fem bench --help`).
     Bench(BenchArgs),
     /// Run a parameter study: one run per case, in parallel or as job-array tasks, and a summary
@@ -305,7 +320,7 @@ struct BenchArgs {
     what: BenchTarget,
     #[command(flatten)]
     cfg: ConfigArgs,
-    /// Repetitions of the default run (`run`); the best is reported.
+    /// Repetitions of the default run (`run`, `modes`); the best is reported.
     #[arg(long, default_value_t = 3)]
     repeats: usize,
     /// Python interpreter with NGSolve: also time the tutorial script and print the ratio (`run`).
@@ -337,6 +352,8 @@ enum BenchTarget {
     Mesh,
     /// The cost per step of a follower torque (0.1 N m and 0 N m against none).
     Torque,
+    /// 20 elastic modes of the pendulum (`pendulum-fem modes --n 20` without the files).
+    Modes,
 }
 
 fn bench(args: BenchArgs) -> Result<(), Error> {
@@ -347,10 +364,33 @@ fn bench(args: BenchArgs) -> Result<(), Error> {
         BenchTarget::Scaling => bench::bench_scaling(&config, args.steps, args.largest),
         BenchTarget::Memory => bench::bench_memory(&config, 100, 1000),
         BenchTarget::Mesh => pendulum_fem::mesh::bench::bench_mesh(&config, Some(args.triangles)).map(|_| ()),
+        BenchTarget::Modes => bench::bench_modes(&config, 20, args.repeats).map(|_| ()),
         BenchTarget::Torque => [0.1, 0.0]
             .into_iter()
             .try_for_each(|m| bench::bench_torque(&config, 100, args.repeats, m).map(|_| ())),
     }
+}
+
+fn modes(cfg: &ConfigArgs, n: i64, out: &std::path::Path, json: bool) -> Result<(), Error> {
+    use pendulum_fem::commands::modes::{check_count, modes_command, MAX_MODES};
+    let n = usize::try_from(n).map_err(|_| {
+        Error::Input(format!(
+            "modes --n {n}: allowed 1 to {MAX_MODES} (the number of elastic modes besides the rigid rotation)"
+        ))
+    })?;
+    check_count(n)?;
+    let config = load(cfg)?;
+    let report = modes_command(&config, n, out)?;
+    if json {
+        println!("{}", report.to_json());
+    } else {
+        print!("{}", report.table());
+        println!(
+            "written to {}: modes.json, modes.pvd (modes/mode_NN.vtu), modes.png",
+            out.display()
+        );
+    }
+    Ok(())
 }
 
 fn load(args: &ConfigArgs) -> Result<Config, Error> {
@@ -533,6 +573,7 @@ fn main() -> ExitCode {
         Some(Command::Init { file, force }) => init(file, force).map(|()| ExitCode::SUCCESS),
         Some(Command::Bench(args)) => bench(args).map(|()| ExitCode::SUCCESS),
         Some(Command::Sweep(args)) => sweep(args),
+        Some(Command::Modes { cfg, n, out, json }) => modes(&cfg, n, &out, json).map(|()| ExitCode::SUCCESS),
         Some(Command::Mesh { cfg, out, json }) => load(&cfg)
             .and_then(|c| pendulum_fem::commands::mesh::mesh_command(&c, &out, json))
             .map(|()| ExitCode::SUCCESS),

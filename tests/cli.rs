@@ -209,7 +209,7 @@ fn init_header_says_the_defaults_are_energy_momentum_from_a_rigid_start_and_how_
 fn help_lists_every_subcommand() {
     let o = bin().arg("--help").output().unwrap();
     let text = String::from_utf8_lossy(&o.stdout);
-    for sub in ["run", "mesh", "init", "bench", "sweep"] {
+    for sub in ["run", "mesh", "modes", "init", "bench", "sweep"] {
         assert!(text.contains(sub), "--help lacks {sub}: {text}");
     }
 }

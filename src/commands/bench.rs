@@ -10,6 +10,8 @@
 //! * `mesh`: the tutorial mesh (best of 10) and a mesh of about `--triangles` triangles.
 //! * `torque`: 100 steps with and without a follower torque (the cost of the term).
 //! * `memory`: resident memory after 100 and after 1000 steps (streaming output must keep it flat).
+//! * `modes`: 20 elastic modes of the pendulum (and the rigid one), the eigensolver alone and
+//!   with the stiffness at rest ([`bench_modes`]).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -390,4 +392,47 @@ pub fn bench_torque(cfg: &Config, steps: usize, repeats: usize, amplitude: f64) 
         100.0 * (out.cpu_seconds.1 / out.cpu_seconds.0 - 1.0)
     );
     Ok(out)
+}
+
+/// Times `n` elastic modes (plus the rigid one) of the pendulum of `cfg` ([`crate::modal`]), best
+/// of `repeats`: the stiffness at rest, then the eigensolver (factorisation, Lanczos, checks).
+/// Prints the figures and returns the best total \[s\].
+pub fn bench_modes(cfg: &Config, n: usize, repeats: usize) -> Result<f64, Error> {
+    use crate::modal;
+    let (cfg, _) = crate::commands::modes::pendulum_alone(cfg);
+    let model = crate::Model::new(&cfg, mesh::generate(&cfg)?)?;
+    let constraints = model.hinge.dense_rows(model.pattern.n).to_vec();
+    let shift = modal::rest_shift(&model);
+    println!(
+        "modes: {n} elastic modes and the rigid one, {} unknowns",
+        model.pattern.n
+    );
+    let mut best = (f64::INFINITY, 0.0, 0.0);
+    for i in 0..repeats.max(1) {
+        let start = Instant::now();
+        let k = modal::stiffness_at_rest(&model);
+        let assembled = start.elapsed().as_secs_f64();
+        let modes = modal::constrained_modes(&model.pattern, &k, &model.mass, &constraints, n + 1, shift)?;
+        let total = start.elapsed().as_secs_f64();
+        println!(
+            "  run {}: {:.4} s (stiffness {:.4} s, eigensolver {:.4} s); f1 = {:.3} Hz, f{n} = {:.3} Hz",
+            i + 1,
+            total,
+            assembled,
+            total - assembled,
+            modes.frequencies_hz()[1],
+            modes.frequencies_hz()[n]
+        );
+        if total < best.0 {
+            best = (total, assembled, total - assembled);
+        }
+    }
+    println!(
+        "  best of {}: {:.4} s for {n} modes (stiffness {:.4} s, eigensolver {:.4} s)",
+        repeats.max(1),
+        best.0,
+        best.1,
+        best.2
+    );
+    Ok(best.0)
 }

@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod mesh;
+pub mod modes;
 /// `run`: the run driver, the crate `pendulum-fem-run` (used by the Python package and the sweeps
 /// too); the command attaches the pictures ([`crate::render::pictures`]) and the progress bar.
 pub use pendulum_fem_run as run;

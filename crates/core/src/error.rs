@@ -131,6 +131,9 @@ pub enum Error {
     Input(String),
     /// The sparse factorisation could not be set up.
     LinearSolver(String),
+    /// A modal analysis ([`crate::modal`]) failed: the message names the step (factorisation,
+    /// constraints, Lanczos convergence, residual check) and what to change.
+    Modal(String),
     /// The deformable wall's face met the head where the fixed sparsity pattern couples no
     /// nodes (the bodies deformed by more than its margin): the step is refused rather than solved
     /// with a truncated Jacobian ([`crate::terms::WallContact::uncoupled_contact`]).
@@ -192,6 +195,7 @@ impl fmt::Display for Error {
             Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
             Self::Input(m) => write!(f, "input: {m}"),
             Self::LinearSolver(m) => write!(f, "linear solver: {m}"),
+            Self::Modal(m) => write!(f, "modal analysis: {m}"),
             Self::ContactOutsidePattern { step, t, message } => {
                 write!(f, "time step {step} refused at t = {t:.6} s: {message}")
             }

@@ -65,6 +65,7 @@ pub mod energy_momentum;
 pub mod fe;
 pub mod linsolve;
 pub mod material;
+pub mod modal;
 pub mod newmark;
 pub mod newton;
 pub mod post;

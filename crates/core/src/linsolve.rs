@@ -79,6 +79,12 @@ impl Cholesky {
         })
     }
 
+    /// Whether the last successful factorisation was `L D Lᵀ` (the matrix is not positive
+    /// definite), not `L Lᵀ`.
+    pub fn is_indefinite(&self) -> bool {
+        self.indefinite
+    }
+
     /// Number of stored entries of the factor `L`.
     pub fn factor_nnz(&self) -> usize {
         self.l_values.len()

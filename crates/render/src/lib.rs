@@ -15,6 +15,7 @@ pub use pendulum_fem_run::files::write_atomically;
 pub mod anim;
 mod font;
 pub mod gmsh;
+pub mod modes;
 pub mod pictures;
 pub mod plot;
 pub mod pvd;
