@@ -20,11 +20,9 @@
 //! `K` is the elastic tangent at `u = 0` \[N/m\], `M` the consistent mass \[kg\].
 
 use super::{ArcPoint, ProxyModes, ReducedBody, StressModes};
-use crate::assembly::Pattern;
-use crate::linsolve::Cholesky;
+use crate::modal::{constrained_modes, constrained_static, rest_shift, stiffness_at_rest};
 use crate::simulation::{Model, CONTACT_BOUNDARY, HINGE_BOUNDARY};
 use crate::terms::torque::HubAngle;
-use crate::terms::{StepContext, Term};
 use crate::Error;
 
 /// How many modes of each kind.
@@ -54,82 +52,6 @@ pub fn frame_rows(model: &Model) -> Result<Vec<Vec<f64>>, Error> {
     let scale = 1.0 / hub.c0;
     s.iter_mut().for_each(|v| *v *= scale);
     Ok(vec![hx, hy, s])
-}
-
-/// The elastic tangent of the pendulum at `u = 0` on the model's pattern (upper triangle).
-pub fn stiffness_at_rest(model: &Model) -> Vec<f64> {
-    let n = model.pattern.n;
-    let u = vec![0.0; n];
-    let cx = StepContext::at(&u, 0.0, 0.0, None);
-    let mut values = vec![0.0; model.pattern.nnz()];
-    model.bodies[0]
-        .elastic
-        .add_hessian(&u, &cx, &model.pattern, &mut values);
-    values
-}
-
-/// `K x = f`, `C x = 0` for every `f` (K singular only on rigid motions, which `C` removes):
-/// `K + εM` factorised once, the constraint through its Schur complement, and iterative
-/// refinement against `K` to remove the shift.
-pub(crate) fn constrained_static(
-    pattern: &Pattern,
-    stiffness: &[f64],
-    mass: &[f64],
-    rows: &[Vec<f64>],
-    loads: &[Vec<f64>],
-) -> Result<Vec<Vec<f64>>, Error> {
-    let n = pattern.n;
-    let diag = |v: &[f64]| {
-        (0..n)
-            .filter_map(|i| pattern.position(i, i))
-            .map(|p| v[p].abs())
-            .fold(0.0, f64::max)
-    };
-    let eps = 1e-6 * diag(stiffness) / diag(mass);
-    let shifted: Vec<f64> = stiffness.iter().zip(mass).map(|(k, m)| k + eps * m).collect();
-    let mut chol = Cholesky::new(pattern)?;
-    chol.factor(pattern, &shifted).map_err(|_| {
-        Error::LinearSolver("the reduced body's static modes: the shifted stiffness is singular".into())
-    })?;
-    let r = rows.len();
-    let z: Vec<Vec<f64>> = rows
-        .iter()
-        .map(|c| {
-            let mut x = c.clone();
-            chol.solve_in_place(&mut x);
-            x
-        })
-        .collect();
-    let mut schur = vec![0.0; r * r];
-    for i in 0..r {
-        for j in 0..r {
-            schur[i * r + j] = dot(&rows[i], &z[j]);
-        }
-    }
-    let mut solve = |f: &[f64]| -> Vec<f64> {
-        let mut y = f.to_vec();
-        chol.solve_in_place(&mut y);
-        let mut mu: Vec<f64> = rows.iter().map(|c| dot(c, &y)).collect();
-        let mut s = schur.clone();
-        super::step::lu_solve(&mut s, r, &mut mu);
-        for (zj, m) in z.iter().zip(&mu) {
-            y.iter_mut().zip(zj).for_each(|(a, b)| *a -= m * b);
-        }
-        y
-    };
-    let mut out = Vec::with_capacity(loads.len());
-    let mut kx = vec![0.0; n];
-    for f in loads {
-        let mut x = solve(f);
-        for _ in 0..4 {
-            pattern.sym_matvec(stiffness, &x, &mut kx);
-            let res: Vec<f64> = f.iter().zip(&kx).map(|(a, b)| a - b).collect();
-            let dx = solve(&res);
-            x.iter_mut().zip(&dx).for_each(|(a, b)| *a += b);
-        }
-        out.push(x);
-    }
-    Ok(out)
 }
 
 /// Symmetric eigen-decomposition of the dense `n × n` matrix `a` (row-major) by cyclic Jacobi
@@ -266,7 +188,7 @@ impl ReducedBody {
         let stiffness = stiffness_at_rest(model);
         let rows = frame_rows(model)?;
         let loads = correction_fields(model, ndof, settings.contact);
-        let statics = constrained_static(pattern, &stiffness, &model.mass.values, &rows, &loads)?;
+        let statics = constrained_static(pattern, &stiffness, &rows, &loads)?;
         // M-orthonormal span: the normal modes first, then what each static mode adds
         let mut basis: Vec<Vec<f64>> = Vec::new();
         let mut mv = vec![0.0; ndof];
@@ -441,6 +363,8 @@ pub fn for_model(model: &Model) -> Result<ReducedBody, Error> {
 
 /// The lowest `n` fixed-frame normal modes of the pendulum (see the module doc).
 fn normal_modes(model: &Model, n: usize) -> Result<Vec<Vec<f64>>, Error> {
-    let _ = (model, n);
-    Ok(Vec::new())
+    let stiffness = stiffness_at_rest(model);
+    let rows = frame_rows(model)?;
+    let modes = constrained_modes(&model.pattern, &stiffness, &model.mass, &rows, n, rest_shift(model))?;
+    Ok(modes.shapes)
 }
