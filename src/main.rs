@@ -338,6 +338,15 @@ struct BenchArgs {
     /// Largest problem of `scaling` in unknowns (targets 5k, 20k, 80k, 320k, ... up to this).
     #[arg(long, default_value_t = 320_000)]
     largest: usize,
+    /// Python interpreter with fmpy (`fmu`; default: the one `scripts/test-env` prints).
+    #[arg(long, value_name = "PYTHON")]
+    python: Option<PathBuf>,
+    /// The FMU to time (`fmu`; default: built by `cargo xtask fmu`).
+    #[arg(long, value_name = "FILE")]
+    fmu: Option<PathBuf>,
+    /// Simulated seconds per communication step size (`fmu`).
+    #[arg(long, default_value_t = 2.0)]
+    seconds: f64,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
@@ -354,6 +363,8 @@ enum BenchTarget {
     Torque,
     /// 20 elastic modes of the pendulum (`pendulum-fem modes --n 20` without the files).
     Modes,
+    /// The FMU through fmpy: real-time factors at communication steps of 10 ms and 1 ms.
+    Fmu,
 }
 
 fn bench(args: BenchArgs) -> Result<(), Error> {
@@ -368,6 +379,9 @@ fn bench(args: BenchArgs) -> Result<(), Error> {
         BenchTarget::Torque => [0.1, 0.0]
             .into_iter()
             .try_for_each(|m| bench::bench_torque(&config, 100, args.repeats, m).map(|_| ())),
+        BenchTarget::Fmu => {
+            bench::bench_fmu(args.python.as_deref(), args.fmu.as_deref(), args.seconds, args.repeats).map(|_| ())
+        }
     }
 }
 

@@ -12,6 +12,10 @@
 //! * `memory`: resident memory after 100 and after 1000 steps (streaming output must keep it flat).
 //! * `modes`: 20 elastic modes of the pendulum (and the rigid one), the eigensolver alone and
 //!   with the stiffness at rest ([`bench_modes`]).
+//! * `fmu`: the FMU (`cargo xtask fmu`, or `--fmu FILE`) driven by fmpy through
+//!   `crates/fmu/examples/fmpy_speed.py` (`setReal(tau)`, `doStep`, every output read, each step)
+//!   with the interpreter of `scripts/test-env` (or `--python`): the real-time factor
+//!   `simulated time / wall time` at communication steps of 10 ms and 1 ms.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -435,4 +439,87 @@ pub fn bench_modes(cfg: &Config, n: usize, repeats: usize) -> Result<f64, Error>
         best.2
     );
     Ok(best.0)
+}
+
+/// The real-time factors of [`bench_fmu`]: simulated time over wall time, best of the repeats.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FmuBench {
+    /// At communication steps of 10 ms.
+    pub factor_10ms: f64,
+    /// At communication steps of 1 ms.
+    pub factor_1ms: f64,
+}
+
+/// The fmpy driver that [`bench_fmu`] runs (relative to the repository's root).
+pub const FMPY_SPEED: &str = "crates/fmu/examples/fmpy_speed.py";
+
+/// `bench fmu`: the FMU through fmpy at communication steps of 10 ms and 1 ms, `seconds` simulated
+/// each, best of `repeats` ([`FMPY_SPEED`], run from the repository's root). Without `fmu` the FMU
+/// is built by `cargo xtask fmu` (into `$CARGO_TARGET_DIR/fmu`, else `target/fmu`); without
+/// `python` the interpreter is the one `scripts/test-env` prints (with fmpy; made on first use).
+/// The FMU runs with its own defaults (the default pendulum, the torque input declared): the
+/// configuration's `--set` values do not reach it. Prints the driver's lines and the two
+/// real-time factors, and returns them.
+pub fn bench_fmu(python: Option<&Path>, fmu: Option<&Path>, seconds: f64, repeats: usize) -> Result<FmuBench, Error> {
+    let run = |program: &Path, args: &[&std::ffi::OsStr]| -> Result<String, Error> {
+        let out = std::process::Command::new(program)
+            .args(args)
+            .stderr(std::process::Stdio::inherit())
+            .output()
+            .map_err(|e| Error::io(program, e))?;
+        if !out.status.success() {
+            return Err(Error::Input(format!(
+                "bench fmu: {} {} failed ({})",
+                program.display(),
+                args.iter().map(|a| a.to_string_lossy()).collect::<Vec<_>>().join(" "),
+                out.status
+            )));
+        }
+        Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+    };
+    let fmu = match fmu {
+        Some(path) => path.to_path_buf(),
+        None => {
+            let cargo = std::env::var_os("CARGO").map_or_else(|| PathBuf::from("cargo"), PathBuf::from);
+            run(&cargo, &["xtask".as_ref(), "fmu".as_ref()])?;
+            let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| PathBuf::from("target"), PathBuf::from);
+            target.join("fmu").join("PendulumFem.fmu")
+        }
+    };
+    if !fmu.is_file() {
+        return Err(Error::Input(format!("bench fmu: no FMU at {}", fmu.display())));
+    }
+    let python = match python {
+        Some(path) => path.to_path_buf(),
+        None => PathBuf::from(run(Path::new("scripts/test-env"), &[])?.trim()),
+    };
+    let (seconds, repeats) = (seconds.to_string(), repeats.max(1).to_string());
+    let report = run(
+        &python,
+        &[FMPY_SPEED.as_ref(), fmu.as_os_str(), seconds.as_ref(), repeats.as_ref()],
+    )?;
+    print!("{report}");
+    // "FMU via fmpy h = 0.01 s: … (real-time factor 5.00, …"
+    let factor = |h: &str| -> Result<f64, Error> {
+        report
+            .lines()
+            .find(|l| l.contains(&format!("h = {h} s:")))
+            .and_then(|l| l.split("real-time factor ").nth(1))
+            .and_then(|rest| rest.split([',', ')']).next())
+            .and_then(|x| x.trim().parse().ok())
+            .ok_or_else(|| {
+                Error::Input(format!(
+                    "bench fmu: no real-time factor at h = {h} s in {FMPY_SPEED}'s report"
+                ))
+            })
+    };
+    let out = FmuBench {
+        factor_10ms: factor("0.01")?,
+        factor_1ms: factor("0.001")?,
+    };
+    println!(
+        "FMU through fmpy, real-time factor at communication steps of 10 ms / 1 ms: {:.2} / {:.2}",
+        out.factor_10ms, out.factor_1ms
+    );
+    Ok(out)
 }
