@@ -66,6 +66,8 @@ pub enum Role {
     WallKind,
     /// `solver.max_cutbacks`: −1 for `"auto"`, otherwise the count.
     MaxCutbacks,
+    /// `model.kind`: 0 the full body, 1 the reduced one.
+    ModelKind,
     /// The largest internal step of `fmi2DoStep` \[s\].
     MaxInternalStep,
     /// The actuator torque input \[N m\].
@@ -393,6 +395,23 @@ pub const VARIABLES: &[Variable] = &[
         description: "The wall: 0 none, 1 rigid (the half-plane x <= wall_x), 2 the tutorial's deformable block",
         role: Role::WallKind,
     },
+    Variable {
+        name: "model_kind",
+        vr: 44,
+        kind: Kind::Integer,
+        causality: Causality::Parameter,
+        unit: None,
+        start: Some(0.0),
+        description: "The pendulum: 0 the full finite-element body, 1 the reduced body (its rotation and elastic modes in a floating frame; small strains, far faster)",
+        role: Role::ModelKind,
+    },
+    integer(
+        "modes",
+        45,
+        8.0,
+        "Fixed-frame normal modes of the reduced body (1 to 200; its static correction modes come on top)",
+        "model.modes",
+    ),
     Variable {
         name: "solver_max_cutbacks",
         vr: 42,

@@ -39,6 +39,11 @@ impl Instance {
                     2 => "wall.kind=\"deformable\"".to_string(),
                     other => format!("wall.kind={other}"),
                 }),
+                Role::ModelKind => sets.push(match value as i64 {
+                    0 => "model.kind=\"full\"".to_string(),
+                    1 => "model.kind=\"reduced\"".to_string(),
+                    other => format!("model.kind={other}"),
+                }),
                 _ => {}
             }
         }
@@ -56,6 +61,10 @@ impl Instance {
             return Err(format!(
                 "wall_kind = {w}: allowed 0 (none), 1 (rigid) or 2 (deformable)"
             ));
+        }
+        let k = self.value_of(Role::ModelKind);
+        if !(0.0..=1.0).contains(&k) {
+            return Err(format!("model_kind = {k}: allowed 0 (full) or 1 (reduced)"));
         }
         let t = self.value_of(Role::ThetaStart);
         if !(-2.0 * std::f64::consts::PI..=2.0 * std::f64::consts::PI).contains(&t) {
