@@ -61,6 +61,16 @@ pub struct ArcPoint {
     pub bound: f64,
 }
 
+impl ArcPoint {
+    /// The point's position in the frame, `X_p + Φ_p q` \[m\].
+    pub(crate) fn in_frame(&self, q: &[f64]) -> [f64; 2] {
+        [
+            self.reference[0] + dot(&self.modes[0], q),
+            self.reference[1] + dot(&self.modes[1], q),
+        ]
+    }
+}
+
 /// The operators of a reduced body (see the module doc); built once per model.
 #[derive(Clone, Debug)]
 pub struct ReducedBody {
@@ -206,11 +216,7 @@ impl ReducedBody {
 
     /// The gap of arc point `p` to the face `x = face_x` \[m\].
     pub(crate) fn gap(&self, point: &ArcPoint, theta: f64, q: &[f64], face_x: f64) -> f64 {
-        let y = [
-            point.reference[0] + dot(&point.modes[0], q),
-            point.reference[1] + dot(&point.modes[1], q),
-        ];
-        rotate(theta, y)[0] - face_x
+        rotate(theta, point.in_frame(q))[0] - face_x
     }
 
     /// Linear momentum `P = R(θ)(θ̇ J (S₀ + S q) + S q̇)` \[kg m/s\].

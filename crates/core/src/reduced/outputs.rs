@@ -62,10 +62,7 @@ impl ReducedBody {
             for pt in &self.arc {
                 let gap = self.gap(pt, s.theta, &s.q, wall.face_x);
                 if gap < 0.0 {
-                    let y = [
-                        pt.reference[0] + dot(&pt.modes[0], &s.q),
-                        pt.reference[1] + dot(&pt.modes[1], &s.q),
-                    ];
+                    let y = pt.in_frame(&s.q);
                     let x = rotate(s.theta, y);
                     // the force k (−g) w e_x at x: its moment x × f = −x_y f_x
                     moment -= x[1] * pt.weight * wall.stiffness * -gap;

@@ -126,10 +126,7 @@ impl ReducedBody {
                     continue;
                 }
                 let c = pt.weight * wall.stiffness * gap;
-                let y = [
-                    pt.reference[0] + dot(&pt.modes[0], &s0.q),
-                    pt.reference[1] + dot(&pt.modes[1], &s0.q),
-                ];
+                let y = pt.in_frame(&s0.q);
                 grad[0] += c * (-sn * y[0] - cs * y[1]);
                 for i in 0..n {
                     grad[1 + i] += c * (cs * pt.modes[0][i] - sn * pt.modes[1][i]);
@@ -206,10 +203,7 @@ impl ReducedBody {
                     continue;
                 }
                 let c = pt.weight * psi;
-                let y = [
-                    pt.reference[0] + dot(&pt.modes[0], &qm),
-                    pt.reference[1] + dot(&pt.modes[1], &qm),
-                ];
+                let y = pt.in_frame(&qm);
                 d_theta += c * sc * (-sm * y[0] - cm * y[1]);
                 for i in 0..n {
                     grad[i] += c * (rc * pt.modes[0][i] - rs * pt.modes[1][i]);
