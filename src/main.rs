@@ -467,6 +467,15 @@ fn print_summary(s: &RunSummary) {
         s.energy_error * s.energy_scale,
         s.energy_scale
     );
+    if let Some((eta, t)) = s.error_estimate {
+        println!(
+            "  reduced body       largest error estimate {eta:.2e} at t = {t:.4} s (warns above {:.0e})",
+            pendulum_fem::reduced::WARNING_BOUND
+        );
+    }
+    for w in &s.warnings {
+        println!("  {w}");
+    }
     println!("  writing outputs    {:.3} s of the wall time", s.seconds_outputs);
     println!("  results in         {}", s.out_dir.display());
     let (frames, others): (Vec<_>, Vec<_>) = s

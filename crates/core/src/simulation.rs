@@ -122,6 +122,10 @@ pub struct Simulation {
     /// The reduced body's coordinates and momenta (`model.kind = "reduced"`), from which
     /// [`Simulation::state`] is reconstructed after every step.
     reduced: Option<crate::reduced::ReducedState>,
+    /// The reduced body's error estimate so far ([`crate::reduced::validity`]).
+    validity: crate::reduced::Validity,
+    /// A warning not yet taken by [`Simulation::take_warning`].
+    pending_warning: Option<String>,
     /// `(t, α)` at the start of the previous (sub)step, for the predictor's `α̇`.
     previous_alpha: Option<(f64, f64)>,
     /// Rigid-body measures of the current state, once computed.

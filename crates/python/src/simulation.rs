@@ -28,9 +28,14 @@ fn build(py: Python<'_>, cfg: &Config) -> PyResult<Simulation> {
         })
         .map_err(py_err)?;
     if let Some(w) = warning {
-        PyErr::warn(py, &py.get_type::<PyUserWarning>(), &std::ffi::CString::new(w)?, 1)?;
+        user_warning(py, w)?;
     }
     Ok(sim)
+}
+
+/// Raises `text` as a Python `UserWarning`.
+fn user_warning(py: Python<'_>, text: String) -> PyResult<()> {
+    PyErr::warn(py, &py.get_type::<PyUserWarning>(), &std::ffi::CString::new(text)?, 1)
 }
 
 /// What `__reduce__` returns: the function that rebuilds a simulation and its arguments (the
@@ -52,7 +57,18 @@ pub struct PySimulation {
 impl PySimulation {
     fn from_config(py: Python<'_>, config: Config) -> PyResult<Self> {
         let sim = build(py, &config)?;
-        Ok(Self { sim, config })
+        let mut s = Self { sim, config };
+        s.warn(py)?;
+        Ok(s)
+    }
+
+    /// The simulation's warning since the last look (the reduced body's, once, when it does not
+    /// apply) as a Python `UserWarning`.
+    fn warn(&mut self, py: Python<'_>) -> PyResult<()> {
+        match self.sim.take_warning() {
+            Some(w) => user_warning(py, w),
+            None => Ok(()),
+        }
     }
 
     /// Rebuilds the model with a torque input (before the first step only).
@@ -126,13 +142,17 @@ impl PySimulation {
     /// fails raises `ConvergenceError` and leaves the state exactly as before.
     fn step(&mut self, py: Python<'_>, dt: f64) -> PyResult<usize> {
         let sim = &mut self.sim;
-        py.detach(|| sim.step(dt)).map_err(py_err)
+        let its = py.detach(|| sim.step(dt)).map_err(py_err)?;
+        self.warn(py)?;
+        Ok(its)
     }
 
     /// Advances by one step that lands exactly on `t_end` [s] (after the current time).
     fn step_to(&mut self, py: Python<'_>, t_end: f64) -> PyResult<usize> {
         let sim = &mut self.sim;
-        py.detach(|| sim.step_to(t_end)).map_err(py_err)
+        let its = py.detach(|| sim.step_to(t_end)).map_err(py_err)?;
+        self.warn(py)?;
+        Ok(its)
     }
 
     /// Runs from the current state to `end` [s] in steps of `dt` (default: `time.dt`; a shorter last
@@ -184,6 +204,7 @@ impl PySimulation {
             }
             Ok(rows)
         })?;
+        self.warn(py)?;
         let columns = PyDict::new(py);
         let header = pendulum_fem_run::rows::header(self.sim.model.wall.is_some());
         for (j, name) in header.split(',').enumerate() {
@@ -204,6 +225,14 @@ impl PySimulation {
     fn restore(&mut self, data: &[u8]) -> PyResult<()> {
         let snap = Snapshot::from_bytes(data, "snapshot").map_err(py_err)?;
         self.sim.restore(&snap).map_err(py_err)
+    }
+
+    /// A reduced body's largest error estimate so far and when it was reached, `(eta, t)`
+    /// (dimensionless, s): the relative error of its elastic forces against the full model's;
+    /// above 0.01 it warns once (a `UserWarning`). `None` for the full model.
+    #[getter]
+    fn error_estimate(&self) -> Option<(f64, f64)> {
+        self.sim.error_estimate()
     }
 
     /// Time of the current state [s].

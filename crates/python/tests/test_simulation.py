@@ -398,3 +398,20 @@ def test_the_reduced_body_runs_from_python_conserving_energy_and_follows_the_ful
     for _ in range(5):
         reduced.step(0.01)
     assert np.array_equal(state_of(reduced), first)
+    # steel is where the reduced body applies: its error estimate stays far below the bound (1e-2)
+    eta, _ = reduced.error_estimate
+    assert eta < 1e-4
+    assert Simulation().error_estimate is None
+
+
+def test_a_soft_reduced_pendulum_warns_once_that_it_does_not_apply():
+    """A rubber pendulum (E = 0.1 MPa) is beyond the reduced body's linear modes: the package
+    raises the run's one warning as a ``UserWarning`` naming the figure and the way out."""
+    soft = {"youngs_modulus": 1e5, "poisson_ratio": 0.45, "density": 1000.0}
+    with pytest.warns(UserWarning, match='does not apply here.*model.kind = "full"') as caught:
+        sim = Simulation(model={"kind": "reduced"}, material=soft, initial={"angle_deg": 45.0})
+        for _ in range(20):
+            sim.step(0.01)
+    assert len([w for w in caught if "does not apply" in str(w.message)]) == 1
+    eta, _ = sim.error_estimate
+    assert eta > 1.0

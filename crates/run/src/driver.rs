@@ -128,6 +128,11 @@ pub struct RunSummary {
     pub factorizations: usize,
     /// Step cut-backs.
     pub cutbacks: usize,
+    /// Warnings the run raised (each also printed to stderr when raised): the reduced body's
+    /// when it does not apply ([`pendulum_fem_core::reduced::validity`]).
+    pub warnings: Vec<String>,
+    /// A reduced body's largest error estimate over the run and its time `(η, t)`.
+    pub error_estimate: Option<(f64, f64)>,
     /// Final proxy angle \[rad\].
     pub theta_final: f64,
     /// Smallest and largest proxy angle \[rad\].
@@ -264,8 +269,10 @@ pub fn run_with(
     let mut reached = None;
     let result = run_steps(opts, out_dir, observe, &mut reached);
     let status = match &result {
-        Ok(s) if s.end == RunEnd::Interrupted => crate::status::RunStatus::interrupted(end_time, reached),
-        Ok(_) => crate::status::RunStatus::ok(end_time, reached),
+        Ok(s) if s.end == RunEnd::Interrupted => {
+            crate::status::RunStatus::interrupted(end_time, reached).with_warnings(&s.warnings)
+        }
+        Ok(s) => crate::status::RunStatus::ok(end_time, reached).with_warnings(&s.warnings),
         Err(e) => crate::status::RunStatus::failed(end_time, reached, e),
     };
     // A run that failed reports its own error, not a failure to write the status.
@@ -401,6 +408,10 @@ fn run_steps(
             }
         }
         resumed = false;
+        if let Some(w) = sim.take_warning() {
+            eprintln!("{w}");
+            summary.warnings.push(w);
+        }
         if sim.step >= plan.steps() {
             break Ok(());
         }
@@ -467,6 +478,7 @@ fn run_steps(
     }
     summary.seconds_outputs = seconds_outputs;
     summary.steps = sim.step;
+    summary.error_estimate = sim.error_estimate();
     summary.time_reached = sim.state.t;
     summary.newton_iterations = sim.total_iterations;
     summary.factorizations = sim.total_factorizations;

@@ -34,6 +34,9 @@ pub struct RunStatus {
     pub end_time_s: f64,
     /// The error of a failed run, with its causes.
     pub error: Option<String>,
+    /// The warnings of the run (absent when there are none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 impl RunStatus {
@@ -44,7 +47,14 @@ impl RunStatus {
             time_s: reached.map(|r| r.1),
             end_time_s,
             error,
+            warnings: Vec::new(),
         }
+    }
+
+    /// The same status with the run's warnings.
+    pub fn with_warnings(mut self, warnings: &[String]) -> Self {
+        self.warnings = warnings.to_vec();
+        self
     }
 
     /// A run that has started.

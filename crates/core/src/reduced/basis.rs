@@ -1,19 +1,29 @@
 //! The reduced body's modes and operators, built once from the full model.
 //!
 //! **The frame conditions** `C φ = 0` (three rows): the hinge's two mean displacements and the
-//! hinge edge's best-fit rotation `s(φ) = Σ_a (w_{a,x} φ_{a,y} − w_{a,y} φ_{a,x})`
-//! ([`crate::terms::torque::HubAngle`]). They hold the frame statically determinate: no
-//! displacement of the body is restrained beyond its rigid motion, so the static response to any
-//! load balanced by the frame is an elastic deformation that the frame carries.
+//! mean-axis (Tisserand) condition `(M J X)ᵀ φ = 0`: the elastic displacement carries no angular
+//! momentum about the pivot in the frame, so the frame turns with the body as a whole. They hold
+//! the frame statically determinate: no displacement of the body is restrained beyond its rigid
+//! motion, so the static response to any load balanced by the frame is an elastic deformation
+//! that the frame carries.
+//!
+//! *Why the mean axis and not the hinge edge.* A frame fixed to the hinge edge's best-fit rotation
+//! (the torque's hub angle) makes the body's rotation about the short edge an elastic mode: its
+//! coupling `d = ΦᵀMJX` takes almost all of `I₀` (`I₀ − |d|² = 3.6e-5 I₀` on the tutorial mesh) and,
+//! for a soft body (E = 1 MPa), the quasi-static response turns the body 0.06 rad about the edge
+//! and grows past the linear modes' reach within 0.4 s of a 45° swing, where Newton fails. In the
+//! mean-axis frame `d = 0`, the rotation of the body is the frame's, and the same run keeps its
+//! strain energy within a few per cent of the full model's. The price is that the hub angle is
+//! `θ + h·q` (`h` the hinge edge's best-fit rotation of the modes, [`HubAngle`]), linear in `q`.
 //!
 //! **The modes** (Craig–Bampton-type for this determinate interface):
 //! * the lowest `normal` fixed-frame normal modes, `K φ = ω² M φ`, `C φ = 0`;
 //! * static correction modes `K φ = f`, `C φ = 0` for the loads the normal modes represent
 //!   poorly: gravity in the frame's two directions (`f = M e_x`, `M e_y`), the centrifugal load
-//!   (`f = M X`), the angular acceleration's load (`f = M J X`: the torque reaches the body through
-//!   the frame, and what deforms it is the inertia of the spin-up), and, with a wall, unit normal
-//!   tractions on the head's arc in `contact` overlapping hat-shaped patches over the part of the
-//!   arc that can reach the wall;
+//!   (`f = M X`), the torque's couple on the hinge edge (`f = ∂θ_hub/∂u`; the angular
+//!   acceleration's load `M J X` is the mean-axis row itself and is carried by the frame), and,
+//!   with a wall, unit normal tractions on the head's arc in `contact` overlapping hat-shaped
+//!   patches over the part of the arc that can reach the wall;
 //! * a Rayleigh–Ritz step on their span: M-orthonormal and K-diagonal, `ΦᵀMΦ = 1`,
 //!   `ΦᵀKΦ = diag(λ)`, near-dependent vectors dropped.
 //!
@@ -38,20 +48,56 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// The three frame rows `C` over the pendulum's `ndof` degrees of freedom.
+/// The three frame rows `C` over the pendulum's `ndof` degrees of freedom: the hinge's two and
+/// the mean-axis row `M J X / I₀` (in the hinge rows' units, 1/m, for the Schur complement).
 pub fn frame_rows(model: &Model) -> Result<Vec<Vec<f64>>, Error> {
     let ndof = 2 * model.bodies[0].nodes.end;
     let [hx, hy] = model.hinge.dense_rows(ndof);
-    let hub = HubAngle::new(&model.bodies[0].mesh, HINGE_BOUNDARY)?;
-    let mut s = vec![0.0; ndof];
-    for (k, &n) in hub.nodes.iter().enumerate() {
-        s[2 * n] = -hub.wy[k];
-        s[2 * n + 1] = hub.wx[k];
+    let positions = Positions::of(model, ndof);
+    let inertia = dot(&positions.x, &positions.mass(model, &positions.x));
+    let mut row = positions.mass(model, &positions.jx);
+    row.iter_mut().for_each(|v| *v /= inertia);
+    Ok(vec![hx, hy, row])
+}
+
+/// The reference positions `X` and their quarter turns `J X`, interleaved, and the unit
+/// translations, over the pendulum's degrees of freedom.
+struct Positions {
+    x: Vec<f64>,
+    jx: Vec<f64>,
+    ex: Vec<f64>,
+    ey: Vec<f64>,
+}
+
+impl Positions {
+    fn of(model: &Model, ndof: usize) -> Self {
+        let nodes = &model.mesh.nodes[..ndof / 2];
+        Self {
+            x: nodes.iter().flat_map(|p| [p[0], p[1]]).collect(),
+            jx: nodes.iter().flat_map(|p| [-p[1], p[0]]).collect(),
+            ex: (0..ndof).map(|i| if i % 2 == 0 { 1.0 } else { 0.0 }).collect(),
+            ey: (0..ndof).map(|i| if i % 2 == 1 { 1.0 } else { 0.0 }).collect(),
+        }
     }
-    // the rotation row in units of the others (1/m instead of m²), for the Schur complement
-    let scale = 1.0 / hub.c0;
-    s.iter_mut().for_each(|v| *v *= scale);
-    Ok(vec![hx, hy, s])
+
+    /// `M v`.
+    fn mass(&self, model: &Model, v: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; v.len()];
+        model.mass.apply(v, &mut y);
+        y
+    }
+}
+
+/// The hinge edge's best-fit rotation per unit displacement, `∂θ_hub/∂u` at rest \[1/m\], over
+/// the pendulum's `ndof` degrees of freedom: the torque's couple per unit moment.
+fn hub_row(model: &Model, ndof: usize) -> Result<Vec<f64>, Error> {
+    let hub = HubAngle::new(&model.bodies[0].mesh, HINGE_BOUNDARY)?;
+    let mut row = vec![0.0; ndof];
+    for (k, &n) in hub.nodes.iter().enumerate() {
+        row[2 * n] = -hub.wy[k] / hub.c0;
+        row[2 * n + 1] = hub.wx[k] / hub.c0;
+    }
+    Ok(row)
 }
 
 /// Symmetric eigen-decomposition of the dense `n × n` matrix `a` (row-major) by cyclic Jacobi
@@ -102,21 +148,13 @@ pub(crate) fn jacobi_eigen(a: &mut [f64], n: usize) -> (Vec<f64>, Vec<f64>) {
     ((0..n).map(|i| a[i * n + i]).collect(), v)
 }
 
-/// The static loads of the correction modes (see the module doc), before the mass matrix.
-fn correction_fields(model: &Model, ndof: usize, contact: usize) -> Vec<Vec<f64>> {
-    let nodes = &model.mesh.nodes[..ndof / 2];
-    let ex: Vec<f64> = (0..ndof).map(|i| if i % 2 == 0 { 1.0 } else { 0.0 }).collect();
-    let ey: Vec<f64> = (0..ndof).map(|i| if i % 2 == 1 { 1.0 } else { 0.0 }).collect();
-    let x: Vec<f64> = nodes.iter().flat_map(|p| [p[0], p[1]]).collect();
-    let jx: Vec<f64> = nodes.iter().flat_map(|p| [-p[1], p[0]]).collect();
-    let mut out = Vec::new();
-    for f in [ex, ey, x, jx] {
-        let mut mf = vec![0.0; ndof];
-        model.mass.apply(&f, &mut mf);
-        out.push(mf);
-    }
+/// The static loads of the correction modes (see the module doc).
+fn correction_fields(model: &Model, ndof: usize, contact: usize) -> Result<Vec<Vec<f64>>, Error> {
+    let p = Positions::of(model, ndof);
+    let mut out: Vec<Vec<f64>> = [&p.ex, &p.ey, &p.x].iter().map(|f| p.mass(model, f)).collect();
+    out.push(hub_row(model, ndof)?);
     out.extend(arc_loads(model, ndof, contact));
-    out
+    Ok(out)
 }
 
 /// Unit normal tractions on hat-shaped patches of the head's arc where it can reach the wall.
@@ -187,7 +225,7 @@ impl ReducedBody {
         let pattern = &model.pattern;
         let stiffness = stiffness_at_rest(model);
         let rows = frame_rows(model)?;
-        let loads = correction_fields(model, ndof, settings.contact);
+        let loads = correction_fields(model, ndof, settings.contact)?;
         let statics = constrained_static(pattern, &stiffness, &rows, &loads)?;
         // M-orthonormal span: the normal modes first, then what each static mode adds
         let mut basis: Vec<Vec<f64>> = Vec::new();
@@ -244,27 +282,26 @@ impl ReducedBody {
             })
             .collect();
         let stiffness: Vec<f64> = order.iter().map(|&k| lambda[k]).collect();
-        Ok(Self::from_shapes(model, shapes, stiffness))
+        Self::from_shapes(model, shapes, stiffness)
     }
 
     /// The operators of the module doc for M-orthonormal `shapes` with squared frequencies
     /// `stiffness`.
-    fn from_shapes(model: &Model, shapes: Vec<Vec<f64>>, stiffness: Vec<f64>) -> Self {
+    fn from_shapes(model: &Model, shapes: Vec<Vec<f64>>, stiffness: Vec<f64>) -> Result<Self, Error> {
         let ndof = shapes.first().map_or(2 * model.bodies[0].nodes.end, Vec::len);
-        let nodes = &model.mesh.nodes[..ndof / 2];
-        let x: Vec<f64> = nodes.iter().flat_map(|p| [p[0], p[1]]).collect();
-        let jx: Vec<f64> = nodes.iter().flat_map(|p| [-p[1], p[0]]).collect();
-        let ex: Vec<f64> = (0..ndof).map(|i| if i % 2 == 0 { 1.0 } else { 0.0 }).collect();
-        let ey: Vec<f64> = (0..ndof).map(|i| if i % 2 == 1 { 1.0 } else { 0.0 }).collect();
-        let apply = |v: &[f64]| {
-            let mut y = vec![0.0; ndof];
-            model.mass.apply(v, &mut y);
-            y
-        };
-        let (mx, mjx, mex, mey) = (apply(&x), apply(&jx), apply(&ex), apply(&ey));
+        let pos = Positions::of(model, ndof);
+        let (mx, mjx, mex, mey) = (
+            pos.mass(model, &pos.x),
+            pos.mass(model, &pos.jx),
+            pos.mass(model, &pos.ex),
+            pos.mass(model, &pos.ey),
+        );
+        let apply = |v: &[f64]| pos.mass(model, v);
+        let hub = hub_row(model, ndof)?;
         let n = shapes.len();
         let b: Vec<f64> = shapes.iter().map(|p| dot(p, &mx)).collect();
         let d: Vec<f64> = shapes.iter().map(|p| dot(p, &mjx)).collect();
+        let hub: Vec<f64> = shapes.iter().map(|p| dot(p, &hub)).collect();
         // G_ij = φ_iᵀ Jᵀ M φ_j = −(J φ_i)ᵀ M φ_j
         let mphi: Vec<Vec<f64>> = shapes.iter().map(|p| apply(p)).collect();
         let mut g = vec![0.0; n * n];
@@ -330,24 +367,25 @@ impl ReducedBody {
             nodes: element_nodes,
             counts: counts.to_vec(),
         };
-        Self {
+        Ok(Self {
             proxy,
             stress,
-            inertia: dot(&x, &mx),
+            inertia: dot(&pos.x, &mx),
             b,
             d,
+            hub,
             g,
-            s0: [dot(&ex, &mx), dot(&ey, &mx)],
+            s0: [dot(&pos.ex, &mx), dot(&pos.ey, &mx)],
             s: [
                 shapes.iter().map(|p| dot(p, &mex)).collect(),
                 shapes.iter().map(|p| dot(p, &mey)).collect(),
             ],
-            mass: dot(&ex, &mex),
+            mass: dot(&pos.ex, &mex),
             arc,
-            reference: x,
+            reference: pos.x.clone(),
             shapes,
             stiffness,
-        }
+        })
     }
 }
 

@@ -11,18 +11,19 @@
 //! x = R(θ) (X + Φ q),       u = x − X,       ẋ = R(θ) (θ̇ J (X + Φ q) + Φ q̇),   J = [0 −1; 1 0].
 //! ```
 //!
-//! The frame is fixed to the hinge edge by three linear conditions on every mode: the hinge's two
-//! (the mean displacement of the edge vanishes, [`crate::constraint::Hinge`]) and the edge's best-fit
-//! rotation `s(Φ q) = ∫_Γ X × Φ q ds = 0` ([`crate::terms::torque::HubAngle`]). The edge is centred
-//! on the pivot, so the full model's hinge holds exactly for every `(θ, q)`, and the torque's hub
-//! angle *is* `θ`: the actuator's energy is `−M(t) θ`, exactly.
+//! The frame is fixed by three linear conditions on every mode: the hinge's two (the mean
+//! displacement of the edge vanishes, [`crate::constraint::Hinge`]) and the mean-axis (Tisserand)
+//! condition `(MJX)ᵀ Φ q = 0`: the frame turns with the body as a whole ([`basis`] says why). The
+//! edge is centred on the pivot, so the full model's hinge holds exactly for every `(θ, q)`. The
+//! torque acts on the hinge edge, whose best-fit rotation ([`crate::terms::torque::HubAngle`]) is
+//! `θ_hub = θ + h·q` to first order in the strains: the actuator's energy is `−M(t) (θ + h·q)`.
 //!
 //! ## Energies (`M` the consistent mass matrix, the modes M-orthonormal: `ΦᵀMΦ = 1`)
 //!
 //! ```text
 //! T = ½ θ̇² I(q) + θ̇ e(q)·q̇ + ½ |q̇|²,   I(q) = I₀ + 2 b·q + |q|²,   e(q) = d − G q,
 //! I₀ = XᵀMX,  b = ΦᵀMX,  d = ΦᵀMJX,  G = ΦᵀJᵀMΦ (skew)                       [J]
-//! V = ½ Σ λ_k q_k² − gᵀ R(θ) (S₀ + S q) − M(t) θ + Σ_p w_p ψ(g_p(θ, q))            [J]
+//! V = ½ Σ λ_k q_k² − gᵀ R(θ) (S₀ + S q) − M(t) (θ + h·q) + Σ_p w_p ψ(g_p(θ, q))    [J]
 //! S₀ = ∫ρt X dA = EᵀMX,   S = EᵀMΦ (E: the two unit translations),   g = (0, −g)
 //! g_p = e_xᵀ R(θ) (X_p + Φ_p q) − x_w    (the wall's gap at the arc's quadrature point p)
 //! ```
@@ -43,10 +44,12 @@
 pub mod basis;
 pub mod outputs;
 pub mod step;
+pub mod validity;
 
 pub use basis::BasisSettings;
 pub use outputs::{ProxyModes, StressModes};
 pub use step::{Loads, StepReport};
+pub use validity::{Validity, WARNING_BOUND};
 
 /// One quadrature point of the head's arc in modal form.
 #[derive(Clone, Debug)]
@@ -82,8 +85,10 @@ pub struct ReducedBody {
     pub inertia: f64,
     /// `b = ΦᵀMX`.
     pub b: Vec<f64>,
-    /// `d = ΦᵀMJX`.
+    /// `d = ΦᵀMJX`, zero to rounding in the mean-axis frame ([`basis`]).
     pub d: Vec<f64>,
+    /// `h`: the hinge edge's best-fit rotation of each mode, so that the hub angle is `θ + h·q`.
+    pub hub: Vec<f64>,
     /// `G = ΦᵀJᵀMΦ`, row-major, skew.
     pub g: Vec<f64>,
     /// `S₀ = EᵀMX` \[kg m\].
@@ -203,6 +208,11 @@ impl ReducedBody {
         0.5 * dot(&self.momenta(s), &s.v)
     }
 
+    /// The hub angle `θ + h·q`, the hinge edge's best-fit rotation to first order in the strains \[rad\].
+    pub fn hub_angle(&self, s: &ReducedState) -> f64 {
+        s.theta + dot(&self.hub, &s.q)
+    }
+
     /// Strain energy `½ Σ λ_k q_k²` \[J\].
     pub fn strain(&self, q: &[f64]) -> f64 {
         0.5 * self.stiffness.iter().zip(q).map(|(l, x)| l * x * x).sum::<f64>()
@@ -231,7 +241,7 @@ impl ReducedBody {
     }
 
     /// The elastic displacement in the frame, `Φ q`, into `y` (interleaved).
-    fn modal_sum(&self, q: &[f64], y: &mut [f64]) {
+    pub(crate) fn modal_sum(&self, q: &[f64], y: &mut [f64]) {
         y.iter_mut().for_each(|v| *v = 0.0);
         for (phi, &a) in self.shapes.iter().zip(q) {
             if a != 0.0 {
@@ -296,7 +306,8 @@ impl ReducedBody {
                     a[i * n + j] = -alpha * self.g[i * n + j];
                 }
                 a[i * n + i] += self.stiffness[i] - omega * omega;
-                q[i] = omega * omega * self.b[i] - alpha * self.d[i] - g * (s * self.s[0][i] + c * self.s[1][i]);
+                q[i] = omega * omega * self.b[i] - alpha * self.d[i] - g * (s * self.s[0][i] + c * self.s[1][i])
+                    + torque0 * self.hub[i];
             }
             if !step::lu_solve(&mut a, n, &mut q) {
                 q.iter_mut().for_each(|v| *v = 0.0);

@@ -14,8 +14,8 @@
 //!   `∇_q(aᵀ𝕄b) = 2 a_θ b_θ (b + q) + a_θ G b_q + b_θ G a_q` (the `b` of `I(q)` is the vector).
 //!   No difference quotient of the kinetic energy is taken: nothing cancels.
 //! * **Potential part**, each piece a discrete gradient of its own:
-//!   the strain energy (quadratic) `λ q_m`; the torque `−τ̄` on `θ` (`τ̄ = ½(M(t₀) + M(t₁))`, the
-//!   full model's work `τ̄ Δθ`); gravity and the wall's gaps, both `aᵀ R(θ) y(q)` with `y` affine in
+//!   the strain energy (quadratic) `λ q_m`; the torque `−τ̄ (1, h)` (`τ̄ = ½(M(t₀) + M(t₁))`, the
+//!   full model's work `τ̄ Δθ_hub`, `θ_hub = θ + h·q`); gravity and the wall's gaps, both `aᵀ R(θ) y(q)` with `y` affine in
 //!   `q`, by the product rule for differences, `a·(R₁y₁ − R₀y₀) = a·(R₁ − R₀) ȳ + a·R̄ (y₁ − y₀)`
 //!   with `R₁ − R₀ = 2 sin(Δθ/2) R′(θ_m)`; each arc point's penalty density by its secant
 //!   `ψ_d = (ψ(g₁) − ψ(g₀))/(g₁ − g₀)` along that gap ([`crate::terms::WallContact`]).
@@ -109,7 +109,7 @@ impl ReducedBody {
         let (sn, cs) = s0.theta.sin_cos();
         grad[0] = -loads.torque;
         for i in 0..n {
-            grad[1 + i] = self.stiffness[i] * s0.q[i];
+            grad[1 + i] = self.stiffness[i] * s0.q[i] - loads.torque * self.hub[i];
         }
         if loads.gravity != 0.0 {
             let g = loads.gravity;
@@ -173,7 +173,7 @@ impl ReducedBody {
         let (s1n, c1n) = theta1.sin_cos();
         let (rs, rc) = (0.5 * (s0n + s1n), 0.5 * (c0n + c1n)); // R̄ = [rc −rs; rs rc]
         for i in 0..n {
-            grad[i] += self.stiffness[i] * qm[i];
+            grad[i] += self.stiffness[i] * qm[i] - loads.torque * self.hub[i];
         }
         let mut d_theta = -loads.torque;
         if loads.gravity != 0.0 {

@@ -50,6 +50,8 @@ impl Simulation {
             mx: Vec::new(),
             mass_solver: None,
             reduced: None,
+            validity: Default::default(),
+            pending_warning: None,
             model,
         };
         sim.initialize()?;

@@ -10,6 +10,10 @@ use super::{Kinematics, Simulation};
 use crate::error::NewtonError;
 use crate::reduced::Loads;
 
+/// The reduced body's error estimate is evaluated every this many of its (sub)steps, and at the
+/// start: one assembly of the full model's elastic forces, several reduced steps' worth of work.
+const VALIDITY_EVERY: usize = 10;
+
 impl Simulation {
     /// The reduced body's initial state (with the current torque input), and the fields.
     pub(super) fn initialize_reduced(&mut self) {
@@ -21,6 +25,32 @@ impl Simulation {
         body.fields(&r, &mut self.state.u, &mut self.state.v);
         self.reduced = Some(r);
         self.rates = None;
+        self.validity = Default::default();
+        self.check_validity();
+    }
+
+    /// Evaluates the reduced body's error estimate ([`crate::reduced::validity`]) at the current
+    /// state, keeping the first warning for [`Simulation::take_warning`].
+    fn check_validity(&mut self) {
+        let (Some(body), Some(r)) = (&self.model.reduced, &self.reduced) else {
+            return;
+        };
+        let eta = body.error_estimate(&self.model, &r.q);
+        if let Some(w) = self.validity.observe(eta, self.state.t) {
+            self.pending_warning = Some(w.to_string());
+        }
+    }
+
+    /// The reduced body's largest error estimate so far and when it was reached `(η, t)`
+    /// ([`crate::reduced::validity`]); `None` for the full model.
+    pub fn error_estimate(&self) -> Option<(f64, f64)> {
+        self.validity.largest
+    }
+
+    /// A warning the run has raised since the last call (the reduced body's, once, when it does
+    /// not apply), for the driver to show.
+    pub fn take_warning(&mut self) -> Option<String> {
+        self.pending_warning.take()
     }
 
     /// The reduced body's coordinates and momenta, `None` for the full model.
@@ -87,13 +117,17 @@ impl Simulation {
         // F_hinge = ΔP/h − m g − F_wall, g = (0, −g)
         let hinge = [(p1[0] - p0[0]) / h - f[0], (p1[1] - p0[1]) / h + body.mass * g - f[1]];
         self.lambda = [-hinge[0], -hinge[1]];
-        self.torque_work += torque * (r1.theta - r0.theta);
+        self.torque_work += torque * (body.hub_angle(&r1) - body.hub_angle(r0));
         body.fields(&r1, &mut self.state.u, &mut self.state.v);
         self.state.t = t0 + h;
         self.reduced = Some(r1);
         self.rates = None;
         // the branch of θ for the next (sub)step's context
         self.theta = self.unwrap.next(self.proxy_angle());
+        self.validity.steps += 1;
+        if self.validity.steps.is_multiple_of(VALIDITY_EVERY) {
+            self.check_validity();
+        }
         Ok(report.iterations)
     }
 

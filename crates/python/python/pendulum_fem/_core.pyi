@@ -70,6 +70,11 @@ class Simulation:
     @staticmethod
     def _from_state(config_toml: str, snapshot: bytes) -> "Simulation": ...
     @property
+    def error_estimate(self) -> Optional[Tuple[float, float]]:
+        """A reduced body's largest error estimate so far and its time ``(eta, t)``: the relative
+        error of its elastic forces against the full model's; above 0.01 it warns once (a
+        ``UserWarning``). ``None`` for the full model."""
+    @property
     def time(self) -> float:
         """Time of the current state [s]."""
     @property
