@@ -12,7 +12,6 @@
 //! fails the test with the reason; nothing is skipped.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
 
 #[path = "common/python.rs"]
@@ -103,16 +102,8 @@ fn every_notebook_runs_against_the_installed_wheel() {
     let root = root();
     let scratch = root.join("target/notebooks");
     std::fs::create_dir_all(&scratch).unwrap();
-    // the CLI's default run (1 s in steps of 10 ms), results.csv only
-    let cli = scratch.join("cli-run");
-    let _ = std::fs::remove_dir_all(&cli);
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
-    cmd.args(["run", "--quiet"]);
-    for key in ["plots", "animation", "paraview", "viewer"] {
-        cmd.args(["--set", &format!("output.{key}=false")]);
-    }
-    run(cmd.arg("--out").arg(&cli), "pendulum-fem run");
-    let results = cli.join("results.csv");
+    // the CLI's default run (1 s in steps of 10 ms)
+    let results = python_env::cli_run(&scratch.join("cli-run"), &[]).join("results.csv");
     let fmu = python_env::pack_fmu(&scratch.join("fmu"));
 
     let outside = python_env::outside_the_source_tree("notebooks");

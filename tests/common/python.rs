@@ -172,3 +172,20 @@ pub fn outside_the_source_tree(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// Runs the CLI built with the calling test (`pendulum-fem run`, the default configuration with the
+/// overrides `sets`, no pictures, animations, ParaView files or viewer) into a fresh folder `out`,
+/// and returns it (`results.csv`, and `events.csv` with a wall).
+pub fn cli_run(out: &Path, sets: &[&str]) -> PathBuf {
+    let _ = std::fs::remove_dir_all(out);
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
+    cmd.args(["run", "--quiet"]);
+    for set in sets {
+        cmd.args(["--set", set]);
+    }
+    for key in ["plots", "animation", "paraview", "viewer"] {
+        cmd.args(["--set", &format!("output.{key}=false")]);
+    }
+    run(cmd.arg("--out").arg(out), "pendulum-fem run");
+    out.to_path_buf()
+}
