@@ -26,6 +26,13 @@ const NOTEBOOKS: [&str; 4] = [
     "04-parameter-study.ipynb",
 ];
 
+/// Writes `line` to the test's stderr past libtest's capture, so that the log of a passing run
+/// names each notebook and its time too.
+fn report(line: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr().lock(), "notebooks: {line}");
+}
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -108,7 +115,7 @@ fn every_notebook_runs_against_the_installed_wheel() {
 
     let outside = python_env::outside_the_source_tree("notebooks");
     let env = python_env::wheel_env(&root, &scratch, &outside);
-    println!("installed {} into {}", env.wheel, env.python.display());
+    report(&format!("installed {} into {}", env.wheel, env.python.display()));
     let theta_csv = outside.join("notebook-theta.csv");
     for name in NOTEBOOKS {
         // each notebook in a folder of its own, outside the source tree
@@ -116,7 +123,7 @@ fn every_notebook_runs_against_the_installed_wheel() {
         std::fs::create_dir_all(&cwd).unwrap();
         let executed = scratch.join(name);
         let start = Instant::now();
-        let report = run(
+        let cells = run(
             env.command(&env.python, &cwd)
                 .arg(root.join("scripts/run-notebook.py"))
                 .arg(notebook_dir().join(name))
@@ -128,12 +135,12 @@ fn every_notebook_runs_against_the_installed_wheel() {
                 .env_remove("MPLBACKEND"),
             &format!("notebook {name}"),
         );
-        println!(
+        report(&format!(
             "{name}: ran without error in {:.1} s ({}; executed copy in {})",
             start.elapsed().as_secs_f64(),
-            report.trim(),
+            cells.trim(),
             executed.display()
-        );
+        ));
     }
 
     // θ(t) of the basics notebook is the CLI's: the same doubles, bit for bit (both are the same
@@ -153,9 +160,9 @@ fn every_notebook_runs_against_the_installed_wheel() {
             f64::from_bits(b.1)
         );
     }
-    println!(
+    report(&format!(
         "01-basics.ipynb: θ(t) equals the CLI's results.csv bit for bit ({} rows)",
         cli_rows.len()
-    );
+    ));
     let _ = std::fs::remove_dir_all(&outside);
 }
