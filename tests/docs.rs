@@ -170,21 +170,6 @@ fn documentation(root: &Path) -> Vec<PathBuf> {
     files
 }
 
-/// Packs `target/tmp/docs/fmu/PendulumFem.fmu` from the FMU's shared object built with this test
-/// (a dependency of it, so cargo builds it first), as `cargo xtask fmu` does.
-fn pack_fmu(scratch: &Path) -> PathBuf {
-    use pendulum_fem_fmu::package::{write_fmu, LIBRARY_FILE};
-    let exe = std::env::current_exe().unwrap();
-    let deps = exe.parent().unwrap();
-    let library = [deps.join(LIBRARY_FILE), deps.join("..").join(LIBRARY_FILE)]
-        .into_iter()
-        .find(|p| p.is_file())
-        .unwrap_or_else(|| panic!("{LIBRARY_FILE} not found next to {}", exe.display()));
-    let fmu = scratch.join("fmu").join("PendulumFem.fmu");
-    write_fmu(&library, &fmu).expect("FMU packed");
-    fmu
-}
-
 /// A fresh folder that looks like a checkout: links to the repository's entries, and `target/`
 /// with the FMU and the binary where the documentation says they are.
 fn checkout_like(root: &Path, dir: &Path, fmu: &Path) {
@@ -297,7 +282,7 @@ fn every_documentation_block_runs_as_written_or_says_why_not() {
     std::fs::create_dir_all(&scratch).unwrap();
     let python = python_env::test_env_python(&root);
     python_env::install_wheel(&root, &python, &root.join("target/python-test"));
-    let fmu = pack_fmu(&scratch);
+    let fmu = python_env::pack_fmu(&scratch.join("fmu"));
 
     // PATH: this test's pendulum-fem, then the test environment's python, pip and fmpy
     let bin = scratch.join("bin");
