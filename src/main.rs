@@ -365,6 +365,8 @@ enum BenchTarget {
     Modes,
     /// The FMU through fmpy: real-time factors at communication steps of 10 ms and 1 ms.
     Fmu,
+    /// The reduced body against the full model: a bare step at 1 ms, the default job (outputs off).
+    Reduced,
 }
 
 fn bench(args: BenchArgs) -> Result<(), Error> {
@@ -379,6 +381,7 @@ fn bench(args: BenchArgs) -> Result<(), Error> {
         BenchTarget::Torque => [0.1, 0.0]
             .into_iter()
             .try_for_each(|m| bench::bench_torque(&config, 100, args.repeats, m).map(|_| ())),
+        BenchTarget::Reduced => bench::bench_reduced(&config, args.repeats).map(|_| ()),
         BenchTarget::Fmu => {
             bench::bench_fmu(args.python.as_deref(), args.fmu.as_deref(), args.seconds, args.repeats).map(|_| ())
         }

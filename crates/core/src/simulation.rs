@@ -52,7 +52,7 @@ mod model;
 mod record;
 mod reduced;
 mod schemes;
-mod snapshot;
+pub(crate) mod snapshot;
 pub mod split;
 mod stepper;
 mod substep;
@@ -78,7 +78,9 @@ pub struct Simulation {
     pub model: Model,
     /// Newton workspace (factorisation, buffers).
     pub solver: Solver,
-    /// Current state.
+    /// Current state. For a reduced body without a wall, its displacement and velocity are brought
+    /// up to date only when read through [`Simulation::displacement`], [`Simulation::velocity`]
+    /// or a frame: read them there.
     pub state: State,
     /// Current hinge multipliers \[N\].
     pub lambda: [f64; 2],
@@ -126,6 +128,11 @@ pub struct Simulation {
     validity: crate::reduced::Validity,
     /// A warning not yet taken by [`Simulation::take_warning`].
     pending_warning: Option<String>,
+    /// Whether [`Simulation::state`]'s displacement and velocity lag the reduced body's
+    /// coordinates (a reduced body without a wall reconstructs its fields only when they are read).
+    fields_stale: bool,
+    /// The reduced body's fields `[u, v]`, reconstructed on the first read after a step.
+    lazy_fields: std::sync::OnceLock<[Vec<f64>; 2]>,
     /// `(t, α)` at the start of the previous (sub)step, for the predictor's `α̇`.
     previous_alpha: Option<(f64, f64)>,
     /// Rigid-body measures of the current state, once computed.

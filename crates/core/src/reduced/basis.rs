@@ -358,7 +358,7 @@ impl ReducedBody {
             let sm = body.stress.element_node_stresses(&body.material, &minus);
             for e in 0..nen {
                 for c in 0..4 {
-                    values[(e * 4 + c) * n + k] = (sp[e][c] - sm[e][c]) / (2.0 * delta);
+                    values[k * nen * 4 + e * 4 + c] = (sp[e][c] - sm[e][c]) / (2.0 * delta);
                 }
             }
         }

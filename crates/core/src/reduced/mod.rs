@@ -42,6 +42,7 @@
 //! phase error from the scheme.
 
 pub mod basis;
+pub mod cache;
 pub mod outputs;
 pub mod step;
 pub mod validity;
@@ -52,7 +53,7 @@ pub use step::{Loads, StepReport};
 pub use validity::{Validity, WARNING_BOUND};
 
 /// One quadrature point of the head's arc in modal form.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ArcPoint {
     /// Reference position `X_p` \[m\].
     pub reference: [f64; 2],
@@ -75,7 +76,7 @@ impl ArcPoint {
 }
 
 /// The operators of a reduced body (see the module doc); built once per model.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ReducedBody {
     /// The mode shapes `Φ` (M-orthonormal), each over the pendulum's degrees of freedom.
     pub shapes: Vec<Vec<f64>>,

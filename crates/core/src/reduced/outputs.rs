@@ -21,10 +21,10 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// The modes' stresses at the element nodes and how they average at the nodes.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct StressModes {
-    /// `σ_k` per element node and component (`[σxx, σyy, σxy, σzz]`), `n` values (one per mode)
-    /// each: index `((e · 4) + c) · n + k` \[Pa per unit amplitude\].
+    /// `σ_k` per element node and component (`[σxx, σyy, σxy, σzz]`), mode by mode: index
+    /// `k · 4 N + e · 4 + c` (`N` element nodes) \[Pa per unit amplitude\].
     pub values: Vec<f64>,
     /// The mesh node of each element node.
     pub nodes: Vec<usize>,
@@ -33,7 +33,7 @@ pub struct StressModes {
 }
 
 /// The proxy angle's functionals of the modes.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct ProxyModes {
     /// `P = ∫ |X|² dA` \[m⁴\].
     pub polar: f64,
@@ -88,15 +88,18 @@ impl ReducedBody {
 
     /// The element-node stresses of a state, in the frame, into `out` (4 per element node).
     fn element_stresses(&self, q: &[f64], out: &mut Vec<[f64; 4]>) {
-        let n = self.modes();
         let sm = &self.stress;
+        let len = 4 * sm.nodes.len();
         out.clear();
-        out.extend((0..sm.nodes.len()).map(|e| {
-            std::array::from_fn(|c| {
-                let row = &sm.values[(e * 4 + c) * n..(e * 4 + c + 1) * n];
-                dot(row, q)
-            })
-        }));
+        out.resize(sm.nodes.len(), [0.0; 4]);
+        let flat = out.as_flattened_mut();
+        // mode by mode, an axpy over every element node's components (contiguous: it vectorises)
+        for (k, &a) in q.iter().enumerate() {
+            if a != 0.0 {
+                let col = &sm.values[k * len..(k + 1) * len];
+                flat.iter_mut().zip(col).for_each(|(y, x)| *y += a * x);
+            }
+        }
     }
 
     /// The largest nodal von Mises stress of a state \[Pa\] (see the module doc).

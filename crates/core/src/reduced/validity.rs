@@ -37,6 +37,14 @@ use crate::terms::{StepContext, Term};
 /// The estimate `η` above which the reduced body warns (see the module doc).
 pub const WARNING_BOUND: f64 = 0.01;
 
+/// The estimate is evaluated at the start, whenever the strain energy passes the largest at which
+/// it was evaluated by this factor, and at least every [`EVERY`] steps: one evaluation assembles the
+/// full model's elastic forces (tens of reduced steps' work), and `η` grows with the strains.
+pub const STRAIN_FACTOR: f64 = 1.1;
+
+/// The most steps between two evaluations of the estimate.
+pub const EVERY: usize = 100;
+
 /// The running estimate of a reduced run and its warning.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Validity {
@@ -44,14 +52,25 @@ pub struct Validity {
     pub largest: Option<(f64, f64)>,
     /// The warning, once `η` has passed [`WARNING_BOUND`].
     pub warning: Option<String>,
-    /// Steps taken (the estimate's cadence).
+    /// Steps since the last evaluation.
     pub steps: usize,
+    /// The largest strain energy at which the estimate was evaluated \[J\].
+    pub strain: f64,
 }
 
 impl Validity {
-    /// Takes the estimate `eta` of the state at time `t`; returns the warning if this estimate is
-    /// the first to pass the bound.
-    pub fn observe(&mut self, eta: f64, t: f64) -> Option<&str> {
+    /// Counts a step whose state has the strain energy `strain` \[J\]; whether the estimate is due
+    /// (see [`STRAIN_FACTOR`]).
+    pub fn due(&mut self, strain: f64) -> bool {
+        self.steps += 1;
+        self.steps >= EVERY || strain > STRAIN_FACTOR * self.strain
+    }
+
+    /// Takes the estimate `eta` of the state at time `t` with the strain energy `strain` \[J\];
+    /// returns the warning if this estimate is the first to pass the bound.
+    pub fn observe(&mut self, eta: f64, t: f64, strain: f64) -> Option<&str> {
+        self.steps = 0;
+        self.strain = self.strain.max(strain);
         if self.largest.is_none_or(|(worst, _)| eta > worst) {
             self.largest = Some((eta, t));
         }

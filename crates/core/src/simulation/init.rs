@@ -52,6 +52,8 @@ impl Simulation {
             reduced: None,
             validity: Default::default(),
             pending_warning: None,
+            fields_stale: false,
+            lazy_fields: Default::default(),
             model,
         };
         sim.initialize()?;

@@ -83,6 +83,7 @@ impl Simulation {
 
     /// Nodal fields of the current state.
     pub fn frame_data(&mut self, theta: f64) -> FrameData {
+        self.sync_fields();
         let acceleration = pairs(&self.acceleration_field());
         FrameData {
             step: self.step,
@@ -101,6 +102,7 @@ impl Simulation {
     /// equation of motion, `M a = −∇Π(u, t) − Cᵀμ`, `C a = 0`, with a Cholesky factorisation of the
     /// mass matrix made on the first call (on request only: frames, not every step).
     pub fn acceleration_field(&mut self) -> Vec<f64> {
+        self.sync_fields();
         if self.model.scheme != Scheme::EnergyMomentum || self.step == 0 {
             return self.state.a.clone();
         }

@@ -209,7 +209,9 @@ impl Model {
             reduced: None,
         };
         if config.model.kind == ModelKind::Reduced {
-            model.reduced = Some(crate::reduced::basis::for_model(&model)?);
+            model.reduced = Some(crate::reduced::cache::load_or_build(&model, || {
+                crate::reduced::basis::for_model(&model)
+            })?);
         }
         Ok(model)
     }

@@ -10,10 +10,6 @@ use super::{Kinematics, Simulation};
 use crate::error::NewtonError;
 use crate::reduced::Loads;
 
-/// The reduced body's error estimate is evaluated every this many of its (sub)steps, and at the
-/// start: one assembly of the full model's elastic forces, several reduced steps' worth of work.
-const VALIDITY_EVERY: usize = 10;
-
 impl Simulation {
     /// The reduced body's initial state (with the current torque input), and the fields.
     pub(super) fn initialize_reduced(&mut self) {
@@ -36,7 +32,7 @@ impl Simulation {
             return;
         };
         let eta = body.error_estimate(&self.model, &r.q);
-        if let Some(w) = self.validity.observe(eta, self.state.t) {
+        if let Some(w) = self.validity.observe(eta, self.state.t, body.strain(&r.q)) {
             self.pending_warning = Some(w.to_string());
         }
     }
@@ -45,6 +41,29 @@ impl Simulation {
     /// ([`crate::reduced::validity`]); `None` for the full model.
     pub fn error_estimate(&self) -> Option<(f64, f64)> {
         self.validity.largest
+    }
+
+    /// The reduced body's fields `[u, v]` of the current state, reconstructed on the first call
+    /// after a step; `None` when [`Simulation::state`] holds them.
+    pub(super) fn lazy_fields(&self) -> Option<&[Vec<f64>; 2]> {
+        let (Some(body), Some(r), true) = (&self.model.reduced, &self.reduced, self.fields_stale) else {
+            return None;
+        };
+        Some(self.lazy_fields.get_or_init(|| {
+            let (mut u, mut v) = (vec![0.0; self.state.u.len()], vec![0.0; self.state.v.len()]);
+            body.fields(r, &mut u, &mut v);
+            [u, v]
+        }))
+    }
+
+    /// Brings [`Simulation::state`]'s displacement and velocity up to the reduced body's
+    /// coordinates, for the readers that take them from there (frames, the acceleration field).
+    pub(super) fn sync_fields(&mut self) {
+        if let Some([u, v]) = self.lazy_fields().cloned() {
+            self.state.u = u;
+            self.state.v = v;
+        }
+        self.fields_stale = false;
     }
 
     /// A warning the run has raised since the last call (the reduced body's, once, when it does
@@ -118,14 +137,23 @@ impl Simulation {
         let hinge = [(p1[0] - p0[0]) / h - f[0], (p1[1] - p0[1]) / h + body.mass * g - f[1]];
         self.lambda = [-hinge[0], -hinge[1]];
         self.torque_work += torque * (body.hub_angle(&r1) - body.hub_angle(r0));
-        body.fields(&r1, &mut self.state.u, &mut self.state.v);
+        // the impact location reads the fields after every step; without a wall only frames and
+        // the accessors do, on demand
+        if m.wall.is_some() {
+            body.fields(&r1, &mut self.state.u, &mut self.state.v);
+        } else {
+            self.fields_stale = true;
+            self.lazy_fields = Default::default();
+        }
         self.state.t = t0 + h;
         self.reduced = Some(r1);
         self.rates = None;
         // the branch of θ for the next (sub)step's context
         self.theta = self.unwrap.next(self.proxy_angle());
-        self.validity.steps += 1;
-        if self.validity.steps.is_multiple_of(VALIDITY_EVERY) {
+        if self
+            .validity
+            .due(body.strain(&self.reduced.as_ref().expect("just set").q))
+        {
             self.check_validity();
         }
         Ok(report.iterations)

@@ -254,12 +254,12 @@ impl Simulation {
 
     /// Nodal displacement, interleaved `[u_x, u_y]` per node \[m\].
     pub fn displacement(&self) -> &[f64] {
-        &self.state.u
+        self.lazy_fields().map_or(&self.state.u, |f| &f[0])
     }
 
     /// Nodal velocity, interleaved \[m/s\].
     pub fn velocity(&self) -> &[f64] {
-        &self.state.v
+        self.lazy_fields().map_or(&self.state.v, |f| &f[1])
     }
 
     /// Nodal Cauchy and von Mises stresses of the current state (computed on this call).

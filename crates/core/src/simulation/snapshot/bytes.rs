@@ -20,25 +20,26 @@ pub const SNAPSHOT_VERSION: u32 = 5;
 
 const MAGIC: &[u8; 8] = b"PFEMSNAP";
 
-struct Writer(Vec<u8>);
+/// A little-endian byte writer (the snapshot's, and the reduced body's cache file's).
+pub(crate) struct Writer(pub(crate) Vec<u8>);
 
 impl Writer {
-    fn u8(&mut self, x: u8) {
+    pub(crate) fn u8(&mut self, x: u8) {
         self.0.push(x);
     }
-    fn u32(&mut self, x: u32) {
+    pub(crate) fn u32(&mut self, x: u32) {
         self.0.extend_from_slice(&x.to_le_bytes());
     }
-    fn u64(&mut self, x: u64) {
+    pub(crate) fn u64(&mut self, x: u64) {
         self.0.extend_from_slice(&x.to_le_bytes());
     }
-    fn usize(&mut self, x: usize) {
+    pub(crate) fn usize(&mut self, x: usize) {
         self.u64(x as u64);
     }
-    fn f64(&mut self, x: f64) {
+    pub(crate) fn f64(&mut self, x: f64) {
         self.u64(x.to_bits());
     }
-    fn opt_f64(&mut self, x: Option<f64>) {
+    pub(crate) fn opt_f64(&mut self, x: Option<f64>) {
         match x {
             Some(v) => {
                 self.u8(1);
@@ -47,20 +48,21 @@ impl Writer {
             None => self.u8(0),
         }
     }
-    fn vec(&mut self, v: &[f64]) {
+    pub(crate) fn vec(&mut self, v: &[f64]) {
         self.usize(v.len());
         v.iter().for_each(|&x| self.f64(x));
     }
 }
 
-struct Reader<'a> {
-    bytes: &'a [u8],
-    pos: usize,
-    source: &'a str,
+/// The bounds-checked reader of [`Writer`]'s bytes; `source` names them in errors.
+pub(crate) struct Reader<'a> {
+    pub(crate) bytes: &'a [u8],
+    pub(crate) pos: usize,
+    pub(crate) source: &'a str,
 }
 
 impl Reader<'_> {
-    fn take(&mut self, n: usize, what: &str) -> Result<&[u8], Error> {
+    pub(crate) fn take(&mut self, n: usize, what: &str) -> Result<&[u8], Error> {
         if self.bytes.len() - self.pos < n {
             return Err(Error::Input(format!(
                 "{}: truncated snapshot: {what} at byte {} needs {n} bytes, {} remain",
@@ -73,21 +75,21 @@ impl Reader<'_> {
         self.pos += n;
         Ok(s)
     }
-    fn u8(&mut self, what: &str) -> Result<u8, Error> {
+    pub(crate) fn u8(&mut self, what: &str) -> Result<u8, Error> {
         Ok(self.take(1, what)?[0])
     }
-    fn u64(&mut self, what: &str) -> Result<u64, Error> {
+    pub(crate) fn u64(&mut self, what: &str) -> Result<u64, Error> {
         Ok(u64::from_le_bytes(self.take(8, what)?.try_into().expect("8 bytes")))
     }
-    fn usize(&mut self, what: &str) -> Result<usize, Error> {
+    pub(crate) fn usize(&mut self, what: &str) -> Result<usize, Error> {
         let at = self.pos;
         let x = self.u64(what)?;
         usize::try_from(x).map_err(|_| Error::Input(format!("{}: {what} at byte {at}: {x} is too large", self.source)))
     }
-    fn f64(&mut self, what: &str) -> Result<f64, Error> {
+    pub(crate) fn f64(&mut self, what: &str) -> Result<f64, Error> {
         Ok(f64::from_bits(self.u64(what)?))
     }
-    fn flag(&mut self, what: &str) -> Result<bool, Error> {
+    pub(crate) fn flag(&mut self, what: &str) -> Result<bool, Error> {
         let at = self.pos;
         match self.u8(what)? {
             0 => Ok(false),
@@ -98,10 +100,10 @@ impl Reader<'_> {
             ))),
         }
     }
-    fn opt_f64(&mut self, what: &str) -> Result<Option<f64>, Error> {
+    pub(crate) fn opt_f64(&mut self, what: &str) -> Result<Option<f64>, Error> {
         Ok(if self.flag(what)? { Some(self.f64(what)?) } else { None })
     }
-    fn vec(&mut self, what: &str) -> Result<Vec<f64>, Error> {
+    pub(crate) fn vec(&mut self, what: &str) -> Result<Vec<f64>, Error> {
         let n = self.usize(what)?;
         if n > (self.bytes.len() - self.pos) / 8 {
             return Err(Error::Input(format!(
@@ -109,7 +111,11 @@ impl Reader<'_> {
                 self.source, self.pos
             )));
         }
-        (0..n).map(|_| self.f64(what)).collect()
+        let bytes = self.take(8 * n, what)?;
+        Ok(bytes
+            .chunks_exact(8)
+            .map(|b| f64::from_bits(u64::from_le_bytes(b.try_into().expect("8 bytes"))))
+            .collect())
     }
 }
 

@@ -16,9 +16,14 @@
 //!   `crates/fmu/examples/fmpy_speed.py` (`setReal(tau)`, `doStep`, every output read, each step)
 //!   with the interpreter of `scripts/test-env` (or `--python`): the real-time factor
 //!   `simulated time / wall time` at communication steps of 10 ms and 1 ms.
+//! * `reduced`: the reduced body against the full model, the bare stepper at 1 ms and the default
+//!   job, its set-up computed and read from the disk cache ([`reduced`]).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+pub mod reduced;
+pub use reduced::{bench_reduced, ReducedBench};
 
 use crate::commands::run::{run_with, RunOptions, RunSummary};
 use crate::config::Scheme;
