@@ -297,6 +297,56 @@ fn a_soft_reduced_pendulum_runs_through_and_warns_unless_it_stays_within_a_tenth
 }
 
 #[test]
+fn a_second_reduced_run_reads_its_set_up_from_the_disk_cache_and_writes_the_same_results() {
+    let cache = out_dir("cache");
+    let run_cached = |name: &str| {
+        let dir = out_dir(name);
+        let out = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
+            .arg("run")
+            .args(QUIET)
+            .args(["--set", "model.kind=reduced", "-o"])
+            .arg(&dir)
+            .env("PENDULUM_FEM_CACHE", &cache)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        (std::fs::read(dir.join("results.csv")).unwrap(), dir)
+    };
+    let files = || -> Vec<PathBuf> {
+        std::fs::read_dir(&cache)
+            .map(|d| d.map(|e| e.unwrap().path()).collect())
+            .unwrap_or_default()
+    };
+    let (first, a) = run_cached("cache-first");
+    let written = files();
+    assert_eq!(written.len(), 1, "one body file: {written:?}");
+    let stamp = std::fs::metadata(&written[0]).unwrap().modified().unwrap();
+    let (second, b) = run_cached("cache-second");
+    assert_eq!(first, second, "the cached body gives the same results, byte for byte");
+    // a run that missed the cache would have written the file anew (a new modification time)
+    assert_eq!(
+        std::fs::metadata(&written[0]).unwrap().modified().unwrap(),
+        stamp,
+        "read, not rewritten"
+    );
+    // a damaged file is computed again and replaced, with the same results
+    let mut bytes = std::fs::read(&written[0]).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 0xff;
+    std::fs::write(&written[0], &bytes).unwrap();
+    let (third, c) = run_cached("cache-damaged");
+    assert_eq!(first, third);
+    assert_ne!(
+        std::fs::read(&written[0]).unwrap(),
+        bytes,
+        "the damaged file was replaced"
+    );
+    for dir in [a, b, c, cache] {
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
+
+#[test]
 fn the_reduced_body_refuses_a_deformable_wall_naming_the_keys() {
     let dir = out_dir("refused");
     let out = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
