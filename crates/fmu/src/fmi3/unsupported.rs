@@ -84,267 +84,106 @@ pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
     }
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetNumberOfVariableDependencies(
-    instance: Instance3,
-    _value_reference: ValueReference,
-    _n_dependencies: *mut usize,
-) -> c_int {
-    refuse(
-        instance,
-        "fmi3GetNumberOfVariableDependencies",
-        "not provided; the dependencies are in <ModelStructure>",
-    )
+/// Exports each function, refused with `fmi3Error` and the message `"{name}: {reason}"`.
+macro_rules! refused {
+    ($($name:ident($($arg:ident: $t:ty),*) => $why:expr;)*) => {$(
+        #[no_mangle]
+        pub unsafe extern "C" fn $name(instance: Instance3, $($arg: $t),*) -> c_int {
+            refuse(instance, stringify!($name), $why)
+        }
+    )*};
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetVariableDependencies(
-    instance: Instance3,
-    _dependent: ValueReference,
-    _element_indices_of_dependent: *mut usize,
-    _independents: *mut ValueReference,
-    _element_indices_of_independents: *mut usize,
-    _dependency_kinds: *mut c_int,
-    _n_dependencies: usize,
-) -> c_int {
-    refuse(
-        instance,
-        "fmi3GetVariableDependencies",
-        "not provided; the dependencies are in <ModelStructure>",
-    )
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
-    instance: Instance3,
-    _unknowns: *const ValueReference,
-    _n_unknowns: usize,
-    _knowns: *const ValueReference,
-    _n_knowns: usize,
-    _seed: *const f64,
-    _n_seed: usize,
-    _sensitivity: *mut f64,
-    _n_sensitivity: usize,
-) -> c_int {
-    refuse(
-        instance,
-        "fmi3GetDirectionalDerivative",
-        "not provided (providesDirectionalDerivatives = false)",
-    )
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetAdjointDerivative(
-    instance: Instance3,
-    _unknowns: *const ValueReference,
-    _n_unknowns: usize,
-    _knowns: *const ValueReference,
-    _n_knowns: usize,
-    _seed: *const f64,
-    _n_seed: usize,
-    _sensitivity: *mut f64,
-    _n_sensitivity: usize,
-) -> c_int {
-    refuse(
-        instance,
-        "fmi3GetAdjointDerivative",
-        "not provided (providesAdjointDerivatives = false)",
-    )
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3EnterConfigurationMode(instance: Instance3) -> c_int {
-    refuse(
-        instance,
-        "fmi3EnterConfigurationMode",
-        "this FMU has no structural parameters",
-    )
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3ExitConfigurationMode(instance: Instance3) -> c_int {
-    refuse(
-        instance,
-        "fmi3ExitConfigurationMode",
-        "this FMU has no structural parameters",
-    )
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetIntervalDecimal(
-    instance: Instance3,
-    _vr: *const ValueReference,
-    _n_vr: usize,
-    _intervals: *mut f64,
-    _qualifiers: *mut c_int,
-) -> c_int {
-    refuse(instance, "fmi3GetIntervalDecimal", NO_CLOCKS)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetIntervalFraction(
-    instance: Instance3,
-    _vr: *const ValueReference,
-    _n_vr: usize,
-    _counters: *mut u64,
-    _resolutions: *mut u64,
-    _qualifiers: *mut c_int,
-) -> c_int {
-    refuse(instance, "fmi3GetIntervalFraction", NO_CLOCKS)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetShiftDecimal(
-    instance: Instance3,
-    _vr: *const ValueReference,
-    _n_vr: usize,
-    _shifts: *mut f64,
-) -> c_int {
-    refuse(instance, "fmi3GetShiftDecimal", NO_CLOCKS)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetShiftFraction(
-    instance: Instance3,
-    _vr: *const ValueReference,
-    _n_vr: usize,
-    _counters: *mut u64,
-    _resolutions: *mut u64,
-) -> c_int {
-    refuse(instance, "fmi3GetShiftFraction", NO_CLOCKS)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3SetIntervalDecimal(
-    instance: Instance3,
-    _vr: *const ValueReference,
-    _n_vr: usize,
-    _intervals: *const f64,
-) -> c_int {
-    refuse(instance, "fmi3SetIntervalDecimal", NO_CLOCKS)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3SetIntervalFraction(
-    instance: Instance3,
-    _vr: *const ValueReference,
-    _n_vr: usize,
-    _counters: *const u64,
-    _resolutions: *const u64,
-) -> c_int {
-    refuse(instance, "fmi3SetIntervalFraction", NO_CLOCKS)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3SetShiftDecimal(
-    instance: Instance3,
-    _vr: *const ValueReference,
-    _n_vr: usize,
-    _shifts: *const f64,
-) -> c_int {
-    refuse(instance, "fmi3SetShiftDecimal", NO_CLOCKS)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3SetShiftFraction(
-    instance: Instance3,
-    _vr: *const ValueReference,
-    _n_vr: usize,
-    _counters: *const u64,
-    _resolutions: *const u64,
-) -> c_int {
-    refuse(instance, "fmi3SetShiftFraction", NO_CLOCKS)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3EvaluateDiscreteStates(instance: Instance3) -> c_int {
-    refuse(
-        instance,
-        "fmi3EvaluateDiscreteStates",
-        "not provided (providesEvaluateDiscreteStates = false)",
-    )
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3ActivateModelPartition(
-    instance: Instance3,
-    _clock_reference: ValueReference,
-    _activation_time: f64,
-) -> c_int {
-    refuse(instance, "fmi3ActivateModelPartition", NO_CLOCKS)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetOutputDerivatives(
-    instance: Instance3,
-    _vr: *const ValueReference,
-    _n_vr: usize,
-    _orders: *const i32,
-    _values: *mut f64,
-    _n_values: usize,
-) -> c_int {
-    refuse(
-        instance,
-        "fmi3GetOutputDerivatives",
-        "not provided (maxOutputDerivativeOrder = 0)",
-    )
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3EnterContinuousTimeMode(instance: Instance3) -> c_int {
-    refuse(instance, "fmi3EnterContinuousTimeMode", CO_SIMULATION_ONLY)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3CompletedIntegratorStep(
-    instance: Instance3,
-    _no_set_fmu_state_prior_to_current_point: bool,
-    _enter_event_mode: *mut Boolean,
-    _terminate_simulation: *mut Boolean,
-) -> c_int {
-    refuse(instance, "fmi3CompletedIntegratorStep", CO_SIMULATION_ONLY)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3SetTime(instance: Instance3, _time: f64) -> c_int {
-    refuse(instance, "fmi3SetTime", CO_SIMULATION_ONLY)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3SetContinuousStates(instance: Instance3, _x: *const f64, _nx: usize) -> c_int {
-    refuse(instance, "fmi3SetContinuousStates", CO_SIMULATION_ONLY)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetContinuousStateDerivatives(instance: Instance3, _dx: *mut f64, _nx: usize) -> c_int {
-    refuse(instance, "fmi3GetContinuousStateDerivatives", CO_SIMULATION_ONLY)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetEventIndicators(instance: Instance3, _indicators: *mut f64, _n: usize) -> c_int {
-    refuse(instance, "fmi3GetEventIndicators", CO_SIMULATION_ONLY)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetContinuousStates(instance: Instance3, _x: *mut f64, _nx: usize) -> c_int {
-    refuse(instance, "fmi3GetContinuousStates", CO_SIMULATION_ONLY)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetNominalsOfContinuousStates(
-    instance: Instance3,
-    _nominals: *mut f64,
-    _nx: usize,
-) -> c_int {
-    refuse(instance, "fmi3GetNominalsOfContinuousStates", CO_SIMULATION_ONLY)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetNumberOfEventIndicators(instance: Instance3, _n: *mut usize) -> c_int {
-    refuse(instance, "fmi3GetNumberOfEventIndicators", CO_SIMULATION_ONLY)
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3GetNumberOfContinuousStates(instance: Instance3, _n: *mut usize) -> c_int {
-    refuse(instance, "fmi3GetNumberOfContinuousStates", CO_SIMULATION_ONLY)
+refused! {
+    fmi3GetNumberOfVariableDependencies(
+        _value_reference: ValueReference,
+        _n_dependencies: *mut usize
+    ) => "not provided; the dependencies are in <ModelStructure>";
+    fmi3GetVariableDependencies(
+        _dependent: ValueReference,
+        _element_indices_of_dependent: *mut usize,
+        _independents: *mut ValueReference,
+        _element_indices_of_independents: *mut usize,
+        _dependency_kinds: *mut c_int,
+        _n_dependencies: usize
+    ) => "not provided; the dependencies are in <ModelStructure>";
+    fmi3GetDirectionalDerivative(
+        _unknowns: *const ValueReference,
+        _n_unknowns: usize,
+        _knowns: *const ValueReference,
+        _n_knowns: usize,
+        _seed: *const f64,
+        _n_seed: usize,
+        _sensitivity: *mut f64,
+        _n_sensitivity: usize
+    ) => "not provided (providesDirectionalDerivatives = false)";
+    fmi3GetAdjointDerivative(
+        _unknowns: *const ValueReference,
+        _n_unknowns: usize,
+        _knowns: *const ValueReference,
+        _n_knowns: usize,
+        _seed: *const f64,
+        _n_seed: usize,
+        _sensitivity: *mut f64,
+        _n_sensitivity: usize
+    ) => "not provided (providesAdjointDerivatives = false)";
+    fmi3EnterConfigurationMode() => "this FMU has no structural parameters";
+    fmi3ExitConfigurationMode() => "this FMU has no structural parameters";
+    fmi3GetIntervalDecimal(
+        _vr: *const ValueReference,
+        _n_vr: usize,
+        _intervals: *mut f64,
+        _qualifiers: *mut c_int
+    ) => NO_CLOCKS;
+    fmi3GetIntervalFraction(
+        _vr: *const ValueReference,
+        _n_vr: usize,
+        _counters: *mut u64,
+        _resolutions: *mut u64,
+        _qualifiers: *mut c_int
+    ) => NO_CLOCKS;
+    fmi3GetShiftDecimal(_vr: *const ValueReference, _n_vr: usize, _shifts: *mut f64) => NO_CLOCKS;
+    fmi3GetShiftFraction(
+        _vr: *const ValueReference,
+        _n_vr: usize,
+        _counters: *mut u64,
+        _resolutions: *mut u64
+    ) => NO_CLOCKS;
+    fmi3SetIntervalDecimal(_vr: *const ValueReference, _n_vr: usize, _intervals: *const f64) => NO_CLOCKS;
+    fmi3SetIntervalFraction(
+        _vr: *const ValueReference,
+        _n_vr: usize,
+        _counters: *const u64,
+        _resolutions: *const u64
+    ) => NO_CLOCKS;
+    fmi3SetShiftDecimal(_vr: *const ValueReference, _n_vr: usize, _shifts: *const f64) => NO_CLOCKS;
+    fmi3SetShiftFraction(
+        _vr: *const ValueReference,
+        _n_vr: usize,
+        _counters: *const u64,
+        _resolutions: *const u64
+    ) => NO_CLOCKS;
+    fmi3EvaluateDiscreteStates() => "not provided (providesEvaluateDiscreteStates = false)";
+    fmi3ActivateModelPartition(_clock_reference: ValueReference, _activation_time: f64) => NO_CLOCKS;
+    fmi3GetOutputDerivatives(
+        _vr: *const ValueReference,
+        _n_vr: usize,
+        _orders: *const i32,
+        _values: *mut f64,
+        _n_values: usize
+    ) => "not provided (maxOutputDerivativeOrder = 0)";
+    fmi3EnterContinuousTimeMode() => CO_SIMULATION_ONLY;
+    fmi3CompletedIntegratorStep(
+        _no_set_fmu_state_prior_to_current_point: bool,
+        _enter_event_mode: *mut Boolean,
+        _terminate_simulation: *mut Boolean
+    ) => CO_SIMULATION_ONLY;
+    fmi3SetTime(_time: f64) => CO_SIMULATION_ONLY;
+    fmi3SetContinuousStates(_x: *const f64, _nx: usize) => CO_SIMULATION_ONLY;
+    fmi3GetContinuousStateDerivatives(_dx: *mut f64, _nx: usize) => CO_SIMULATION_ONLY;
+    fmi3GetEventIndicators(_indicators: *mut f64, _n: usize) => CO_SIMULATION_ONLY;
+    fmi3GetContinuousStates(_x: *mut f64, _nx: usize) => CO_SIMULATION_ONLY;
+    fmi3GetNominalsOfContinuousStates(_nominals: *mut f64, _nx: usize) => CO_SIMULATION_ONLY;
+    fmi3GetNumberOfEventIndicators(_n: *mut usize) => CO_SIMULATION_ONLY;
+    fmi3GetNumberOfContinuousStates(_n: *mut usize) => CO_SIMULATION_ONLY;
 }

@@ -38,24 +38,29 @@ fn library() -> PathBuf {
         .unwrap_or_else(|| panic!("{LIBRARY_FILE} not found next to {}", exe.display()))
 }
 
+/// The FMU `name` written by `write` from [`library`], once per test binary (in `slot`).
+fn packed(
+    slot: &'static OnceLock<PathBuf>,
+    name: &str,
+    write: fn(&Path, &Path) -> std::io::Result<()>,
+) -> &'static Path {
+    slot.get_or_init(|| {
+        let fmu = scratch().join(name);
+        write(&library(), &fmu).expect("FMU packed");
+        fmu
+    })
+}
+
 /// The FMI 2.0 FMU, packed once per test binary.
 pub fn fmu() -> &'static Path {
     static FMU: OnceLock<PathBuf> = OnceLock::new();
-    FMU.get_or_init(|| {
-        let fmu = scratch().join("PendulumFem.fmu");
-        write_fmu(&library(), &fmu).expect("FMU packed");
-        fmu
-    })
+    packed(&FMU, "PendulumFem.fmu", write_fmu)
 }
 
 /// The FMI 3.0 FMU (`PendulumFem3`), packed once per test binary.
 pub fn fmu3() -> &'static Path {
     static FMU: OnceLock<PathBuf> = OnceLock::new();
-    FMU.get_or_init(|| {
-        let fmu = scratch().join("PendulumFem3.fmu");
-        write_fmu3(&library(), &fmu).expect("FMU packed");
-        fmu
-    })
+    packed(&FMU, "PendulumFem3.fmu", write_fmu3)
 }
 
 /// The test environment's Python (`scripts/test-env`); panics with its error output if it fails.
