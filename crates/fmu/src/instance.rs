@@ -20,6 +20,9 @@
 //!   absorbed, and a step that would take more than [`split::MAX_INTERNAL_STEPS`] refused. A failed
 //!   internal step leaves the state as it was before the whole `doStep` (a snapshot taken before a
 //!   multi-step `doStep` is restored; a single step is rolled back by the stepper itself).
+//! * **FMI 3.0** ([`Api::Fmi3`], made by [`Instance::new_fmi3`]): the same instance behind the
+//!   `fmi3*` functions, with event mode ([`Phase::EventMode`]) and impacts as events: early return
+//!   at an impact's start, discrete outputs updated in event mode (module `events`).
 //! * **FMU states** ([`FmuState`]) are a [`Snapshot`] plus the held input, the impact flag, the
 //!   last internal step and the start time (the impact count is the stepper's, in the snapshot);
 //!   serialised behind a small header, all of it under one checksum ([`FmuState::to_bytes`]).

@@ -230,7 +230,9 @@ impl Instance {
         }
         let remaining = target - self.time();
         let early = if remaining > reach {
-            let watch = settings.early_return_allowed.then(|| {
+            // impacts need a wall; without one no snapshots are taken for them
+            let wall = self.sim.as_ref().is_some_and(|sim| sim.model.wall.is_some());
+            let watch = (settings.early_return_allowed && wall).then(|| {
                 let announced = self.events_mut().state.announced as usize;
                 (announced, from)
             });
