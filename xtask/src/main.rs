@@ -6,17 +6,26 @@
 //!   (`pip install ziglang cargo-zigbuild`) it links against glibc 2.17
 //!   (`--target x86_64-unknown-linux-gnu.2.17`), so the FMU loads on Linux systems from 2014 on;
 //!   without it the FMU needs the glibc of the building machine, which it says.
+//! * `fmu --fmi 3`: the same shared object packed as the FMI 3.0 FMU `target/fmu/PendulumFem3.fmu`
+//!   (model identifier `PendulumFem3`, `binaries/x86_64-linux/PendulumFem3.so`); `--fmi 2` is the
+//!   default.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
-use pendulum_fem_fmu::package::{write_fmu, LIBRARY_FILE};
+use pendulum_fem_fmu::package::{write_fmu, write_fmu3, LIBRARY_FILE};
 
 fn main() -> ExitCode {
-    let task = std::env::args().nth(1);
-    let result = match task.as_deref() {
-        Some("fmu") => fmu(),
-        _ => Err("usage: cargo xtask fmu   (builds target/fmu/PendulumFem.fmu)".to_string()),
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let result = match args.as_slice() {
+        ["fmu"] | ["fmu", "--fmi", "2"] => fmu(2),
+        ["fmu", "--fmi", "3"] => fmu(3),
+        ["fmu", "--fmi", other] => Err(format!("--fmi {other}: allowed 2 (the default) or 3")),
+        _ => Err(
+            "usage: cargo xtask fmu [--fmi 2|3]   (builds target/fmu/PendulumFem.fmu, or PendulumFem3.fmu with --fmi 3)"
+                .to_string(),
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -48,7 +57,8 @@ const PROFILE: &str = "fmu-release";
 /// The target of a portable build: the host's, linked against glibc 2.17 by cargo-zigbuild.
 const PORTABLE_TARGET: &str = "x86_64-unknown-linux-gnu.2.17";
 
-fn fmu() -> Result<(), String> {
+/// Builds the shared object and packs the FMU of FMI version `version` (2 or 3).
+fn fmu(version: u8) -> Result<(), String> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let zigbuild = Command::new(&cargo)
         .args(["zigbuild", "--help"])
@@ -79,8 +89,12 @@ fn fmu() -> Result<(), String> {
         false => target.join(PROFILE),
     }
     .join(LIBRARY_FILE);
-    let fmu = target.join("fmu").join("PendulumFem.fmu");
-    write_fmu(&library, &fmu).map_err(|e| format!("writing {}: {e}", fmu.display()))?;
+    let (name, write): (_, fn(&Path, &Path) -> std::io::Result<()>) = match version {
+        3 => ("PendulumFem3.fmu", write_fmu3),
+        _ => ("PendulumFem.fmu", write_fmu),
+    };
+    let fmu = target.join("fmu").join(name);
+    write(&library, &fmu).map_err(|e| format!("writing {}: {e}", fmu.display()))?;
     println!("{}", fmu.display());
     Ok(())
 }

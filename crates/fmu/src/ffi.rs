@@ -25,21 +25,21 @@
 // the standard's function names
 #![allow(non_snake_case)]
 
-mod lifecycle;
+pub(crate) mod lifecycle;
 mod model_exchange;
-mod pointers;
-mod state;
+pub(crate) mod pointers;
+pub(crate) mod state;
 mod status;
-mod values;
+pub(crate) mod values;
 
 use std::ffi::{c_char, c_int, c_uint, c_void, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use crate::instance::{Instance, Status, LIVE_PHASES};
 
-type Component = *mut c_void;
-type FmuStatePtr = *mut c_void;
-type ValueReference = c_uint;
+pub(crate) type Component = *mut c_void;
+pub(crate) type FmuStatePtr = *mut c_void;
+pub(crate) type ValueReference = c_uint;
 type Real = f64;
 type Integer = c_int;
 type Boolean = c_int;
@@ -61,7 +61,7 @@ pub struct CallbackFunctions {
 }
 
 /// Text for C: interior NULs (which C cannot carry) become spaces.
-fn c_text(s: &str) -> CString {
+pub(crate) fn c_text(s: &str) -> CString {
     CString::new(s.replace('\0', " ")).expect("no NUL left")
 }
 
@@ -99,7 +99,7 @@ fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
 
 /// Runs `f` on the instance behind `c` unless the instance is in its error state (then the call is
 /// refused with the reason): see [`with_instance_in_any_state`].
-fn with_instance(c: Component, what: &str, f: impl FnOnce(&mut Instance) -> Status) -> c_int {
+pub(crate) fn with_instance(c: Component, what: &str, f: impl FnOnce(&mut Instance) -> Status) -> c_int {
     with_instance_in_any_state(c, what, |inst| match inst.check_phase(what, LIVE_PHASES) {
         Ok(()) => f(inst),
         Err(status) => status,
@@ -108,7 +108,7 @@ fn with_instance(c: Component, what: &str, f: impl FnOnce(&mut Instance) -> Stat
 
 /// Runs `f` on the instance behind `c` in whatever phase it is: `fmi2Error` for a null component; a
 /// caught panic is logged, returned as `fmi2Error` and puts the instance into its error state.
-fn with_instance_in_any_state(c: Component, what: &str, f: impl FnOnce(&mut Instance) -> Status) -> c_int {
+pub(crate) fn with_instance_in_any_state(c: Component, what: &str, f: impl FnOnce(&mut Instance) -> Status) -> c_int {
     if c.is_null() {
         return Status::Error as c_int;
     }
@@ -132,7 +132,8 @@ fn with_instance_in_any_state(c: Component, what: &str, f: impl FnOnce(&mut Inst
             let _ = catch_unwind(AssertUnwindSafe(|| {
                 inst.error(&format!(
                     "{what}: internal error: {text}; the instance is now in the error state, which only \
-                     fmi2Reset or fmi2FreeInstance leave"
+                     {p}Reset or {p}FreeInstance leave",
+                    p = inst.api.prefix()
                 ))
             }));
             Status::Error as c_int

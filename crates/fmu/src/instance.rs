@@ -20,14 +20,19 @@
 //!   absorbed, and a step that would take more than [`split::MAX_INTERNAL_STEPS`] refused. A failed
 //!   internal step leaves the state as it was before the whole `doStep` (a snapshot taken before a
 //!   multi-step `doStep` is restored; a single step is rolled back by the stepper itself).
+//! * **FMI 3.0** ([`Api::Fmi3`], made by [`Instance::new_fmi3`]): the same instance behind the
+//!   `fmi3*` functions, with event mode ([`Phase::EventMode`]) and impacts as events: early return
+//!   at an impact's start, discrete outputs updated in event mode (module `events`).
 //! * **FMU states** ([`FmuState`]) are a [`Snapshot`] plus the held input, the impact flag, the
 //!   last internal step and the start time (the impact count is the stepper's, in the snapshot);
 //!   serialised behind a small header, all of it under one checksum ([`FmuState::to_bytes`]).
 
+mod events;
 mod fmu_state;
 mod parameters;
 mod stepping;
 
+pub use events::{EventSettings, StepEnd};
 pub use fmu_state::FmuState;
 
 use pendulum_fem_core::Simulation;
@@ -40,7 +45,38 @@ use crate::variables::Output;
 #[cfg(doc)]
 use pendulum_fem_core::{simulation::split, Snapshot};
 
-/// FMI 2.0 status codes.
+/// The FMI version whose C interface an instance serves: it names the functions in messages and
+/// decides the state machine's event mode and the impact events ([`EventSettings`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Api {
+    /// FMI 2.0 Co-Simulation (`fmi2*`).
+    Fmi2,
+    /// FMI 3.0 Co-Simulation (`fmi3*`).
+    Fmi3,
+}
+
+impl Api {
+    /// The prefix of the standard's function names.
+    pub fn prefix(self) -> &'static str {
+        match self {
+            Self::Fmi2 => "fmi2",
+            Self::Fmi3 => "fmi3",
+        }
+    }
+
+    /// The name (without prefix) of `op` (`"Get"`, `"Set"`) on an FMU state: FMI 2.0 writes
+    /// `FMUstate`, FMI 3.0 `FMUState`.
+    pub fn state_call(self, op: &str) -> &'static str {
+        match (self, op) {
+            (Self::Fmi2, "Get") => "GetFMUstate",
+            (Self::Fmi2, _) => "SetFMUstate",
+            (Self::Fmi3, "Get") => "GetFMUState",
+            (Self::Fmi3, _) => "SetFMUState",
+        }
+    }
+}
+
+/// FMI 2.0 status codes (FMI 3.0 has the same ones but `Pending`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(i32)]
 pub enum Status {
@@ -67,6 +103,9 @@ pub enum Phase {
     Initialization,
     /// Stepping.
     StepMode,
+    /// FMI 3.0 only: between `fmi3EnterEventMode` (or `fmi3ExitInitializationMode` with event
+    /// mode used) and `fmi3EnterStepMode`.
+    EventMode,
     /// After `fmi2Terminate`.
     Terminated,
     /// After a caught panic ([`Instance::enter_error_state`]): only `fmi2Reset` and
@@ -81,6 +120,7 @@ impl Phase {
             Self::Instantiated => "instantiated",
             Self::Initialization => "initialization mode",
             Self::StepMode => "step mode",
+            Self::EventMode => "event mode",
             Self::Terminated => "terminated",
             Self::Error => "error",
         }
@@ -88,17 +128,28 @@ impl Phase {
 }
 
 /// The phases in which values can be read (`fmi2Get*`).
-pub const GET_PHASES: &[Phase] = &[Phase::Initialization, Phase::StepMode, Phase::Terminated];
+pub const GET_PHASES: &[Phase] = &[
+    Phase::Initialization,
+    Phase::StepMode,
+    Phase::EventMode,
+    Phase::Terminated,
+];
 
 /// The phases in which some values can be set (`fmi2Set*`): parameters before
 /// `fmi2ExitInitializationMode`, the input until `fmi2Terminate`.
-pub const SET_PHASES: &[Phase] = &[Phase::Instantiated, Phase::Initialization, Phase::StepMode];
+pub const SET_PHASES: &[Phase] = &[
+    Phase::Instantiated,
+    Phase::Initialization,
+    Phase::StepMode,
+    Phase::EventMode,
+];
 
 /// Every phase but [`Phase::Error`].
 pub const LIVE_PHASES: &[Phase] = &[
     Phase::Instantiated,
     Phase::Initialization,
     Phase::StepMode,
+    Phase::EventMode,
     Phase::Terminated,
 ];
 
@@ -111,6 +162,10 @@ pub struct Instance {
     pub name: String,
     /// Whether debug logging (non-error messages) is on.
     pub logging_on: bool,
+    /// The C interface served.
+    pub api: Api,
+    /// FMI 3.0: event mode, early return and the impacts announced (`None` for FMI 2.0).
+    events: Option<events::Events>,
     log: LogSink,
     /// The state machine.
     pub phase: Phase,
@@ -141,11 +196,22 @@ const OUTPUTS: usize = 8;
 pub const TIME_TOLERANCE: f64 = 1e-6;
 
 impl Instance {
-    /// A new instance with every variable at its start value.
+    /// A new FMI 2.0 instance with every variable at its start value.
     pub fn new(name: &str, logging_on: bool, log: LogSink) -> Self {
+        Self::with_api(name, logging_on, log, None)
+    }
+
+    /// A new FMI 3.0 Co-Simulation instance with every variable at its start value.
+    pub fn new_fmi3(name: &str, logging_on: bool, log: LogSink, settings: EventSettings) -> Self {
+        Self::with_api(name, logging_on, log, Some(settings))
+    }
+
+    fn with_api(name: &str, logging_on: bool, log: LogSink, settings: Option<EventSettings>) -> Self {
         Self {
             name: name.to_string(),
             logging_on,
+            api: if settings.is_some() { Api::Fmi3 } else { Api::Fmi2 },
+            events: settings.map(events::Events::new),
             log,
             phase: Phase::Instantiated,
             values: VARIABLES.iter().map(|v| v.start.unwrap_or(0.0)).collect(),
@@ -170,7 +236,8 @@ impl Instance {
         if self.phase == Phase::Error {
             let why = self.failure.as_deref().unwrap_or("an earlier call failed");
             return Err(self.error(&format!(
-                "{function}: not allowed in the error state ({why}); only fmi2Reset or fmi2FreeInstance leave it"
+                "{function}: not allowed in the error state ({why}); only {p}Reset or {p}FreeInstance leave it",
+                p = self.api.prefix()
             )));
         }
         let names: Vec<&str> = allowed.iter().map(|p| p.name()).collect();
@@ -193,6 +260,25 @@ impl Instance {
     #[doc(hidden)]
     pub fn panic_on_next_call(&mut self, message: &str) {
         self.test_panic = Some(message.to_string());
+    }
+
+    /// The standard's name of the function `name` (`"DoStep"` → `fmi2DoStep` or `fmi3DoStep`).
+    pub fn call(&self, name: &str) -> String {
+        format!("{}{name}", self.api.prefix())
+    }
+
+    /// The standard's name of the getter or setter (`op`: `"Get"`, `"Set"`) of values of `kind`:
+    /// `fmi2GetReal`, `fmi3GetFloat64`, …
+    pub fn typed_call(&self, op: &str, kind: crate::variables::Kind) -> String {
+        use crate::variables::Kind;
+        let ty = match (self.api, kind) {
+            (Api::Fmi2, Kind::Real) => "Real",
+            (Api::Fmi3, Kind::Real) => "Float64",
+            (Api::Fmi2, Kind::Integer) => "Integer",
+            (Api::Fmi3, Kind::Integer) => "Int32",
+            (_, Kind::Boolean) => "Boolean",
+        };
+        self.call(&format!("{op}{ty}"))
     }
 
     /// Logs an error (always) and returns [`Status::Error`].
@@ -218,16 +304,21 @@ impl Instance {
     pub fn reset(&mut self) {
         let (name, logging_on) = (std::mem::take(&mut self.name), self.logging_on);
         let log = std::mem::replace(&mut self.log, Box::new(|_, _, _| {}));
-        *self = Self::new(&name, logging_on, log);
+        let settings = self.events.as_ref().map(|e| e.settings);
+        *self = Self::with_api(&name, logging_on, log, settings);
     }
 
     /// `fmi2SetupExperiment`: the start time (tolerance and stop time are not used).
     pub fn setup_experiment(&mut self, start_time: f64) -> Status {
-        if let Err(status) = self.check_phase("fmi2SetupExperiment", &[Phase::Instantiated]) {
+        let function = self.call(match self.api {
+            Api::Fmi2 => "SetupExperiment",
+            Api::Fmi3 => "EnterInitializationMode",
+        });
+        if let Err(status) = self.check_phase(&function, &[Phase::Instantiated]) {
             return status;
         }
         if !start_time.is_finite() {
-            return self.error(&format!("fmi2SetupExperiment: startTime = {start_time} is not finite"));
+            return self.error(&format!("{function}: startTime = {start_time} is not finite"));
         }
         self.start_time = start_time;
         Status::Ok
@@ -235,7 +326,7 @@ impl Instance {
 
     /// `fmi2EnterInitializationMode`.
     pub fn enter_initialization(&mut self) -> Status {
-        if let Err(status) = self.check_phase("fmi2EnterInitializationMode", &[Phase::Instantiated]) {
+        if let Err(status) = self.check_phase(&self.call("EnterInitializationMode"), &[Phase::Instantiated]) {
             return status;
         }
         self.phase = Phase::Initialization;
@@ -244,20 +335,21 @@ impl Instance {
 
     /// `fmi2ExitInitializationMode`: builds the simulation; invalid parameters are reported here.
     pub fn exit_initialization(&mut self) -> Status {
-        if let Err(status) = self.check_phase("fmi2ExitInitializationMode", &[Phase::Initialization]) {
+        if let Err(status) = self.check_phase(&self.call("ExitInitializationMode"), &[Phase::Initialization]) {
             return status;
         }
         if let Err(status) = self.ensure_sim() {
             return status;
         }
         self.phase = Phase::StepMode;
+        self.start_events();
         Status::Ok
     }
 
     /// `fmi2Terminate`: from step mode only (FMI 2.0 allows it after a step, not before
-    /// initialisation, nor twice).
+    /// initialisation, nor twice); `fmi3Terminate` from event mode too.
     pub fn terminate(&mut self) -> Status {
-        if let Err(status) = self.check_phase("fmi2Terminate", &[Phase::StepMode]) {
+        if let Err(status) = self.check_phase(&self.call("Terminate"), &[Phase::StepMode, Phase::EventMode]) {
             return status;
         }
         self.phase = Phase::Terminated;

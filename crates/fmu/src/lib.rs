@@ -1,7 +1,8 @@
 //! # pendulum-fem-fmu
 //!
 //! The deformable pendulum of `pendulum-fem` as an FMI 2.0 Co-Simulation FMU, model identifier
-//! `PendulumFem`: a torque input `tau` at the pivot; outputs θ, ω, α, the wall gap and contact
+//! `PendulumFem` (and, from the same shared object, as the FMI 3.0 Co-Simulation FMU
+//! `PendulumFem3`, which reports wall impacts as events): a torque input `tau` at the pivot; outputs θ, ω, α, the wall gap and contact
 //! outputs, the total energy; parameters for the start, the material, the geometry, the mesh and
 //! the solver, with the CLI's defaults. `cargo xtask fmu` writes `target/fmu/PendulumFem.fmu`.
 //!
@@ -10,14 +11,17 @@
 //!   overrides, `doStep` over the stepper, FMU states as snapshots).
 //! * [`contact`]: the one function that reads the wall and contact outputs.
 //! * `ffi`: the exported `fmi2*` C functions (every one of the standard's), panic-free.
+//! * `fmi3`: the exported `fmi3*` C functions of the FMI 3.0 FMU `PendulumFem3` (every one of
+//!   `fmi3Functions.h`), over the same instance and the same conversions; impacts as events.
 //! * [`package`]: the zip archive (used by `xtask` and the tests).
 #![warn(missing_docs)]
 
 pub mod contact;
 mod ffi;
+mod fmi3;
 pub mod instance;
 pub mod package;
 pub mod variables;
 
 pub use instance::{FmuState, Instance, Status};
-pub use variables::{model_description, MODEL_IDENTIFIER, VARIABLES};
+pub use variables::{model_description, model_description_fmi3, MODEL_IDENTIFIER, MODEL_IDENTIFIER_FMI3, VARIABLES};

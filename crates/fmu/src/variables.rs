@@ -8,9 +8,11 @@
 //! [`pendulum_fem_core::Config::default`]).
 
 mod xml;
+mod xml3;
 
 pub(crate) use xml::fnv1a;
 pub use xml::{guid, model_description};
+pub use xml3::model_description_fmi3;
 
 /// The FMI base type of a variable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -426,6 +428,13 @@ pub const VARIABLES: &[Variable] = &[
 
 /// The model identifier: the shared object is `binaries/linux64/PendulumFem.so`.
 pub const MODEL_IDENTIFIER: &str = "PendulumFem";
+
+/// The model identifier of the FMI 3.0 FMU: `binaries/x86_64-linux/PendulumFem3.so`.
+pub const MODEL_IDENTIFIER_FMI3: &str = "PendulumFem3";
+
+/// The value reference of the independent variable `time` of the FMI 3.0 FMU (FMI 3.0 declares
+/// it; it is not in [`VARIABLES`], whose value references are all below it).
+pub const TIME_VR_FMI3: u32 = 99;
 
 /// The variable with value reference `vr` of base type `kind`.
 pub fn lookup(vr: u32, kind: Kind) -> Option<(usize, &'static Variable)> {

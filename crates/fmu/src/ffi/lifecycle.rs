@@ -57,20 +57,36 @@ pub unsafe extern "C" fn fmi2Instantiate(
             inst.error("fmi2Instantiate: this FMU offers Co-Simulation only (fmuType = fmi2CoSimulation)");
             return std::ptr::null_mut();
         }
-        if !wanted.is_empty() && wanted != guid() {
-            inst.error(&format!(
-                "fmi2Instantiate: GUID {wanted} is not this binary's {} (a modelDescription.xml of another build)",
-                guid()
-            ));
-            return std::ptr::null_mut();
-        }
-        Box::into_raw(Box::new(inst)).cast::<c_void>()
+        into_component(inst, "fmi2Instantiate: GUID", &wanted)
     }));
     made.unwrap_or(std::ptr::null_mut())
 }
 
+/// The instance as a component when `wanted` (the GUID or instantiation token of the model
+/// description the importer read; empty: not given) is this binary's; else null, logged (`what`
+/// names the function and the argument).
+pub(crate) fn into_component(inst: Instance, what: &str, wanted: &str) -> Component {
+    if !wanted.is_empty() && wanted != guid() {
+        inst.error(&format!(
+            "{what} {wanted} is not this binary's {} (a modelDescription.xml of another build)",
+            guid()
+        ));
+        return std::ptr::null_mut();
+    }
+    Box::into_raw(Box::new(inst)).cast::<c_void>()
+}
+
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeInstance(c: Component) {
+    // SAFETY: forwarded caller contract.
+    unsafe { free_instance(c) }
+}
+
+/// Frees an instance (`fmi2FreeInstance`, `fmi3FreeInstance`).
+///
+/// # Safety
+/// `c` is null or a component of this library not yet freed.
+pub(crate) unsafe fn free_instance(c: Component) {
     if !c.is_null() {
         // SAFETY: a component from fmi2Instantiate, freed once (the caller's contract).
         let inst = unsafe { Box::from_raw(c.cast::<Instance>()) };

@@ -7,7 +7,7 @@ use super::FmiString;
 use crate::instance::{Instance, Status};
 
 /// `Err(fmi2Error)`, logged, when an array of `n > 0` values is null.
-pub(super) fn check_arrays(inst: &Instance, what: &str, n: usize, arrays: &[(&str, bool)]) -> Result<(), Status> {
+pub(crate) fn check_arrays(inst: &Instance, what: &str, n: usize, arrays: &[(&str, bool)]) -> Result<(), Status> {
     match arrays.iter().find(|(_, null)| *null) {
         Some((name, _)) if n > 0 => Err(inst.error(&format!("{what}: {name} is null with nvr = {n}"))),
         _ => Ok(()),
@@ -18,7 +18,7 @@ pub(super) fn check_arrays(inst: &Instance, what: &str, n: usize, arrays: &[(&st
 ///
 /// # Safety
 /// For `n > 0`, `p` points to `n` initialised values that stay valid and unaliased for `'a`.
-pub(super) unsafe fn slice<'a, T>(p: *const T, n: usize) -> &'a [T] {
+pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize) -> &'a [T] {
     if n == 0 || p.is_null() {
         &[]
     } else {
@@ -31,7 +31,7 @@ pub(super) unsafe fn slice<'a, T>(p: *const T, n: usize) -> &'a [T] {
 ///
 /// # Safety
 /// For `n > 0`, `p` points to `n` writable values, valid and unaliased for `'a`.
-pub(super) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> &'a mut [T] {
+pub(crate) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> &'a mut [T] {
     if n == 0 || p.is_null() {
         &mut []
     } else {
@@ -44,7 +44,7 @@ pub(super) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> &'a mut [T] {
 ///
 /// # Safety
 /// A non-null `p` is NUL-terminated and valid for the call.
-pub(super) unsafe fn text(p: FmiString) -> String {
+pub(crate) unsafe fn text(p: FmiString) -> String {
     if p.is_null() {
         String::new()
     } else {

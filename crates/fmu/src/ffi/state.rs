@@ -25,9 +25,18 @@ unsafe fn store_state(slot: *mut FmuStatePtr, state: FmuState) {
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetFMUstate(c: Component, state: *mut FmuStatePtr) -> c_int {
-    with_instance(c, "fmi2GetFMUstate", |inst| {
+    // SAFETY: forwarded caller contract.
+    unsafe { get_fmu_state(c, "fmi2GetFMUstate", state) }
+}
+
+/// `fmi2GetFMUstate` and `fmi3GetFMUState` (`what`).
+///
+/// # Safety
+/// `state` is null or the importer's FMU state slot: null or a state of this library.
+pub(crate) unsafe fn get_fmu_state(c: Component, what: &str, state: *mut FmuStatePtr) -> c_int {
+    with_instance(c, what, |inst| {
         if state.is_null() {
-            return inst.error("fmi2GetFMUstate: FMUstate pointer is null");
+            return inst.error(&format!("{what}: FMUState pointer is null"));
         }
         match inst.get_state() {
             Ok(s) => {
@@ -42,9 +51,18 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: Component, state: *mut FmuStatePtr) 
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: Component, state: FmuStatePtr) -> c_int {
-    with_instance(c, "fmi2SetFMUstate", |inst| {
+    // SAFETY: forwarded caller contract.
+    unsafe { set_fmu_state(c, "fmi2SetFMUstate", state) }
+}
+
+/// `fmi2SetFMUstate` and `fmi3SetFMUState` (`what`).
+///
+/// # Safety
+/// `state` is null or a state of this library.
+pub(crate) unsafe fn set_fmu_state(c: Component, what: &str, state: FmuStatePtr) -> c_int {
+    with_instance(c, what, |inst| {
         if state.is_null() {
-            return inst.error("fmi2SetFMUstate: FMUstate is null");
+            return inst.error(&format!("{what}: FMUState is null"));
         }
         // SAFETY: a state made by fmi2GetFMUstate or fmi2DeSerializeFMUstate of this library.
         let s = unsafe { &*state.cast::<FmuState>() };
@@ -54,8 +72,17 @@ pub unsafe extern "C" fn fmi2SetFMUstate(c: Component, state: FmuStatePtr) -> c_
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeFMUstate(c: Component, state: *mut FmuStatePtr) -> c_int {
+    // SAFETY: forwarded caller contract.
+    unsafe { free_fmu_state(c, "fmi2FreeFMUstate", state) }
+}
+
+/// `fmi2FreeFMUstate` and `fmi3FreeFMUState` (`what`).
+///
+/// # Safety
+/// `state` is null or the slot of a state of this library, freed once.
+pub(crate) unsafe fn free_fmu_state(c: Component, what: &str, state: *mut FmuStatePtr) -> c_int {
     // allowed in the error state too: it only releases the master's memory
-    with_instance_in_any_state(c, "fmi2FreeFMUstate", |_| {
+    with_instance_in_any_state(c, what, |_| {
         // SAFETY: `state` is null or the slot of a state of ours, freed once (then nulled).
         unsafe {
             if !state.is_null() && !(*state).is_null() {
@@ -69,9 +96,18 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(c: Component, state: *mut FmuStatePtr)
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SerializedFMUstateSize(c: Component, state: FmuStatePtr, size: *mut usize) -> c_int {
-    with_instance(c, "fmi2SerializedFMUstateSize", |inst| {
+    // SAFETY: forwarded caller contract.
+    unsafe { serialized_size(c, "fmi2SerializedFMUstateSize", state, size) }
+}
+
+/// `fmi2SerializedFMUstateSize` and `fmi3SerializedFMUStateSize` (`what`).
+///
+/// # Safety
+/// `state` is null or a state of this library; `size` null or writable.
+pub(crate) unsafe fn serialized_size(c: Component, what: &str, state: FmuStatePtr, size: *mut usize) -> c_int {
+    with_instance(c, what, |inst| {
         if state.is_null() || size.is_null() {
-            return inst.error("fmi2SerializedFMUstateSize: null FMUstate or size");
+            return inst.error(&format!("{what}: null FMUState or size"));
         }
         // SAFETY: a state of ours and a writable size (the caller's contract).
         unsafe { *size = (*state.cast::<FmuState>()).to_bytes().len() };
@@ -86,20 +122,35 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     serialized: *mut Byte,
     size: usize,
 ) -> c_int {
-    with_instance(c, "fmi2SerializeFMUstate", |inst| {
+    // SAFETY: forwarded caller contract.
+    unsafe { serialize(c, "fmi2SerializeFMUstate", state, serialized.cast::<u8>(), size) }
+}
+
+/// `fmi2SerializeFMUstate` and `fmi3SerializeFMUState` (`what`).
+///
+/// # Safety
+/// `state` is null or a state of this library; `serialized` null or `size` writable bytes.
+pub(crate) unsafe fn serialize(
+    c: Component,
+    what: &str,
+    state: FmuStatePtr,
+    serialized: *mut u8,
+    size: usize,
+) -> c_int {
+    with_instance(c, what, |inst| {
         if state.is_null() || serialized.is_null() {
-            return inst.error("fmi2SerializeFMUstate: null FMUstate or buffer");
+            return inst.error(&format!("{what}: null FMUState or buffer"));
         }
         // SAFETY: a state of ours (the caller's contract).
         let bytes = unsafe { &*state.cast::<FmuState>() }.to_bytes();
         if bytes.len() > size {
             return inst.error(&format!(
-                "fmi2SerializeFMUstate: buffer of {size} bytes for a state of {} (ask fmi2SerializedFMUstateSize)",
+                "{what}: buffer of {size} bytes for a state of {} (ask for the serialized size first)",
                 bytes.len()
             ));
         }
         // SAFETY: `serialized` has room for `size >= bytes.len()` bytes.
-        let out = unsafe { slice_mut(serialized.cast::<u8>(), bytes.len()) };
+        let out = unsafe { slice_mut(serialized, bytes.len()) };
         out.copy_from_slice(&bytes);
         Status::Ok
     })
@@ -112,19 +163,34 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     size: usize,
     state: *mut FmuStatePtr,
 ) -> c_int {
-    with_instance(c, "fmi2DeSerializeFMUstate", |inst| {
+    // SAFETY: forwarded caller contract.
+    unsafe { deserialize(c, "fmi2DeSerializeFMUstate", serialized.cast::<u8>(), size, state) }
+}
+
+/// `fmi2DeSerializeFMUstate` and `fmi3DeserializeFMUState` (`what`).
+///
+/// # Safety
+/// `serialized` holds `size` bytes; `state` is null or the importer's FMU state slot.
+pub(crate) unsafe fn deserialize(
+    c: Component,
+    what: &str,
+    serialized: *const u8,
+    size: usize,
+    state: *mut FmuStatePtr,
+) -> c_int {
+    with_instance(c, what, |inst| {
         if state.is_null() || (serialized.is_null() && size > 0) {
-            return inst.error("fmi2DeSerializeFMUstate: null buffer or FMUstate slot");
+            return inst.error(&format!("{what}: null buffer or FMUState slot"));
         }
         // SAFETY: `serialized` holds `size` bytes (the caller's contract).
-        let bytes = unsafe { slice(serialized.cast::<u8>(), size) };
+        let bytes = unsafe { slice(serialized, size) };
         match FmuState::from_bytes(bytes) {
             Ok(s) => {
                 // SAFETY: `state` is the importer's fmi2FMUstate slot: null or a state of ours.
                 unsafe { store_state(state, s) };
                 Status::Ok
             }
-            Err(e) => inst.error(&format!("fmi2DeSerializeFMUstate: {e}")),
+            Err(e) => inst.error(&format!("{what}: {e}")),
         }
     })
 }

@@ -10,7 +10,10 @@ use crate::instance::{Status, GET_PHASES};
 use crate::variables::Kind;
 
 /// Reads `nvr` values of `kind` and converts them with `convert` into `value` (`what`: the function).
-unsafe fn get_values<T>(
+///
+/// # Safety
+/// `vr` and `value` are null or arrays of `nvr` elements.
+pub(crate) unsafe fn get_values<T>(
     c: Component,
     what: &str,
     kind: Kind,
@@ -37,7 +40,10 @@ unsafe fn get_values<T>(
 }
 
 /// Writes `nvr` values of `kind`, converted with `convert` (`what`: the function).
-unsafe fn set_values<T: Copy>(
+///
+/// # Safety
+/// `vr` and `value` are null or arrays of `nvr` elements.
+pub(crate) unsafe fn set_values<T: Copy>(
     c: Component,
     what: &str,
     kind: Kind,

@@ -113,11 +113,7 @@ impl Instance {
     /// Sets values by value reference (`fmi2SetReal`, `…Integer`, `…Boolean`): parameters in the
     /// instantiated state and initialization mode, the input `tau` until `fmi2Terminate`.
     pub fn set(&mut self, kind: Kind, vrs: &[u32], values: &[f64]) -> Status {
-        let function = match kind {
-            Kind::Real => "fmi2SetReal",
-            Kind::Integer => "fmi2SetInteger",
-            Kind::Boolean => "fmi2SetBoolean",
-        };
+        let function = &self.typed_call("Set", kind);
         if let Err(status) = self.check_phase(function, SET_PHASES) {
             return status;
         }
@@ -131,9 +127,10 @@ impl Instance {
                 Causality::Parameter if !matches!(self.phase, Phase::Instantiated | Phase::Initialization) => {
                     return self.error(&format!(
                         "{function}: {} is a fixed parameter, not settable in the {} state; set it before \
-                         fmi2ExitInitializationMode",
+                         {}ExitInitializationMode",
                         v.name,
-                        self.phase.name()
+                        self.phase.name(),
+                        self.api.prefix()
                     ));
                 }
                 Causality::Parameter => {
@@ -153,6 +150,9 @@ impl Instance {
                             let t = self.time();
                             return self.error(&format!("{function}: tau = {value} N.m at t = {t} s: {e}"));
                         }
+                    }
+                    if changed {
+                        self.input_changed();
                     }
                     self.values[i] = value;
                 }

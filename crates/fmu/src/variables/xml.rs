@@ -24,7 +24,7 @@ fn base_units(unit: &str) -> [i32; 4] {
 }
 
 /// Start value as the XML writes it.
-fn format_start(v: &Variable, start: f64) -> String {
+pub(super) fn format_start(v: &Variable, start: f64) -> String {
     match v.kind {
         Kind::Real => format!("{start:?}"),
         Kind::Integer => format!("{}", start as i64),
@@ -33,7 +33,7 @@ fn format_start(v: &Variable, start: f64) -> String {
 }
 
 /// The 1-based index of the input `tau` in `<ModelVariables>`.
-fn tau_index() -> usize {
+pub(super) fn tau_index() -> usize {
     VARIABLES
         .iter()
         .position(|v| v.role == Role::Tau)
@@ -41,9 +41,25 @@ fn tau_index() -> usize {
         + 1
 }
 
-/// The `<ModelVariables>`, `<UnitDefinitions>` and `<ModelStructure>` content: everything that the
-/// GUID covers.
-fn body() -> String {
+/// The causality, variability and `initial` attribute (with its leading space, or empty) of `v`.
+pub(super) fn causality_attributes(v: &Variable) -> (&'static str, &'static str, &'static str) {
+    match (v.causality, v.kind) {
+        (Causality::Parameter, _) => ("parameter", "fixed", " initial=\"exact\""),
+        (Causality::Input, _) => ("input", "continuous", ""),
+        (Causality::Output, Kind::Real) => ("output", "continuous", " initial=\"calculated\""),
+        (Causality::Output, _) => ("output", "discrete", " initial=\"calculated\""),
+    }
+}
+
+/// Whether the output `v` depends on the input `tau` directly (within a step): only the
+/// acceleration feels the torque without a step; the rest follow it through the state.
+pub(super) fn depends_directly_on_tau(v: &Variable) -> bool {
+    v.role == Role::Output(Output::Alpha)
+}
+
+/// `<UnitDefinitions>`, `<LogCategories>` and `<DefaultExperiment>`: the same in the FMI 2.0 and
+/// the FMI 3.0 model description.
+pub(super) fn units_logs_and_experiment() -> String {
     let mut units: Vec<&str> = VARIABLES.iter().filter_map(|v| v.unit).collect();
     units.sort_unstable();
     units.dedup();
@@ -66,14 +82,16 @@ fn body() -> String {
     x.push_str("    <Category name=\"logAll\" description=\"Everything, including the set-up of the model\"/>\n");
     x.push_str("  </LogCategories>\n");
     x.push_str("  <DefaultExperiment startTime=\"0\" stopTime=\"1\" stepSize=\"0.01\"/>\n");
+    x
+}
+
+/// The `<ModelVariables>`, `<UnitDefinitions>` and `<ModelStructure>` content: everything that the
+/// GUID covers.
+fn body() -> String {
+    let mut x = units_logs_and_experiment();
     x.push_str("  <ModelVariables>\n");
     for (i, v) in VARIABLES.iter().enumerate() {
-        let (causality, variability, initial) = match (v.causality, v.kind) {
-            (Causality::Parameter, _) => ("parameter", "fixed", " initial=\"exact\""),
-            (Causality::Input, _) => ("input", "continuous", ""),
-            (Causality::Output, Kind::Real) => ("output", "continuous", " initial=\"calculated\""),
-            (Causality::Output, _) => ("output", "discrete", " initial=\"calculated\""),
-        };
+        let (causality, variability, initial) = causality_attributes(v);
         let _ = writeln!(
             x,
             "    <!-- index {} -->\n    <ScalarVariable name=\"{}\" valueReference=\"{}\" description=\"{}\" \
@@ -107,8 +125,7 @@ fn body() -> String {
         .map(|(i, v)| (i + 1, v))
         .collect();
     for &(index, v) in &outputs {
-        // only the acceleration feels the torque without a step; the rest follow it through the state
-        let deps = if v.role == Role::Output(Output::Alpha) {
+        let deps = if depends_directly_on_tau(v) {
             tau.to_string()
         } else {
             String::new()
@@ -124,7 +141,7 @@ fn body() -> String {
     x
 }
 
-fn escape(s: &str) -> String {
+pub(super) fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
