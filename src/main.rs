@@ -347,6 +347,9 @@ struct BenchArgs {
     /// Simulated seconds per communication step size (`fmu`).
     #[arg(long, default_value_t = 2.0)]
     seconds: f64,
+    /// Run the FMU's reduced body (`model_kind = 1`; `fmu`).
+    #[arg(long)]
+    reduced: bool,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
@@ -382,9 +385,14 @@ fn bench(args: BenchArgs) -> Result<(), Error> {
             .into_iter()
             .try_for_each(|m| bench::bench_torque(&config, 100, args.repeats, m).map(|_| ())),
         BenchTarget::Reduced => bench::bench_reduced(&config, args.repeats).map(|_| ()),
-        BenchTarget::Fmu => {
-            bench::bench_fmu(args.python.as_deref(), args.fmu.as_deref(), args.seconds, args.repeats).map(|_| ())
-        }
+        BenchTarget::Fmu => bench::bench_fmu(
+            args.python.as_deref(),
+            args.fmu.as_deref(),
+            args.seconds,
+            args.repeats,
+            args.reduced,
+        )
+        .map(|_| ()),
     }
 }
 

@@ -287,6 +287,14 @@ impl Instance {
         Status::Error
     }
 
+    /// Logs the simulation's warning, if it raised one (the reduced body's, once, when it does not
+    /// apply), whether logging is on or not: the step still succeeds.
+    pub(crate) fn log_warning(&mut self) {
+        if let Some(w) = self.sim.as_mut().and_then(|sim| sim.take_warning()) {
+            (self.log)(Status::Warning, "logStatusWarning", &w);
+        }
+    }
+
     /// Logs an informative message when logging is on.
     fn info(&self, message: &str) {
         if self.logging_on {

@@ -198,3 +198,36 @@ fn the_reduced_body_runs_in_the_fmu_conserving_energy_and_near_the_full_model() 
         log.borrow()
     );
 }
+
+#[test]
+fn a_rubber_reduced_body_in_the_fmu_logs_one_warning_that_it_does_not_apply_and_steps_on() {
+    // E = 0.1 MPa is far outside the linear modes (error estimate 25 at the start, bound 0.01)
+    let params = [
+        ("model_kind", 1.0),
+        ("youngs_modulus", 1e5),
+        ("poisson_ratio", 0.45),
+        ("density", 1000.0),
+    ];
+    let (mut inst, log) = started(&params);
+    for k in 0..10 {
+        assert_eq!(inst.do_step(0.01 * k as f64, 0.01), Status::Ok, "{:?}", log.borrow());
+    }
+    let warnings: Vec<String> = log
+        .borrow()
+        .iter()
+        .filter(|(status, _)| *status == Status::Warning)
+        .map(|(_, m)| m.clone())
+        .collect();
+    assert!(
+        warnings.len() == 1 && warnings[0].contains("does not apply") && warnings[0].contains("model.kind = \"full\""),
+        "{warnings:?}"
+    );
+    // steel stays silent
+    let (mut steel, log) = started(&[("model_kind", 1.0)]);
+    assert_eq!(steel.do_step(0.0, 0.01), Status::Ok);
+    assert!(
+        log.borrow().iter().all(|(s, _)| *s != Status::Warning),
+        "{:?}",
+        log.borrow()
+    );
+}

@@ -465,7 +465,14 @@ pub const FMPY_SPEED: &str = "crates/fmu/examples/fmpy_speed.py";
 /// The FMU runs with its own defaults (the default pendulum, the torque input declared): the
 /// configuration's `--set` values do not reach it. Prints the driver's lines and the two
 /// real-time factors, and returns them.
-pub fn bench_fmu(python: Option<&Path>, fmu: Option<&Path>, seconds: f64, repeats: usize) -> Result<FmuBench, Error> {
+/// With `reduced` the FMU runs its reduced body (`model_kind = 1`).
+pub fn bench_fmu(
+    python: Option<&Path>,
+    fmu: Option<&Path>,
+    seconds: f64,
+    repeats: usize,
+    reduced: bool,
+) -> Result<FmuBench, Error> {
     let run = |program: &Path, args: &[&std::ffi::OsStr]| -> Result<String, Error> {
         let out = std::process::Command::new(program)
             .args(args)
@@ -499,9 +506,16 @@ pub fn bench_fmu(python: Option<&Path>, fmu: Option<&Path>, seconds: f64, repeat
         None => PathBuf::from(run(Path::new("scripts/test-env"), &[])?.trim()),
     };
     let (seconds, repeats) = (seconds.to_string(), repeats.max(1).to_string());
+    let kind = if reduced { "1" } else { "0" };
     let report = run(
         &python,
-        &[FMPY_SPEED.as_ref(), fmu.as_os_str(), seconds.as_ref(), repeats.as_ref()],
+        &[
+            FMPY_SPEED.as_ref(),
+            fmu.as_os_str(),
+            seconds.as_ref(),
+            repeats.as_ref(),
+            kind.as_ref(),
+        ],
     )?;
     print!("{report}");
     // "FMU via fmpy h = 0.01 s: … (real-time factor 5.00, …"

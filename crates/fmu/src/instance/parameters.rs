@@ -99,6 +99,7 @@ impl Instance {
                     sim.theta()
                 ));
                 self.sim = Some(sim);
+                self.log_warning();
                 self.invalidate();
                 self.stale = false;
                 Ok(())

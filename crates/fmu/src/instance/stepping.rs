@@ -137,6 +137,8 @@ impl Instance {
                 starts.push((sim.time(), sim.snapshot()));
             }
             let stepped = sim.step(sub);
+            self.log_warning();
+            let sim = self.sim.as_mut().expect("built");
             let early = match (stepped, watch) {
                 (Err(e), _) => {
                     let failed_at = self.start_time + sim.time();
