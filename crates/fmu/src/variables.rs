@@ -411,7 +411,7 @@ pub const VARIABLES: &[Variable] = &[
         "modes",
         45,
         8.0,
-        "Fixed-frame normal modes of the reduced body (1 to 200; its static correction modes come on top)",
+        "Fixed-frame normal modes of the reduced body (1 to 50; its static correction modes come on top)",
         "model.modes",
     ),
     Variable {
