@@ -281,7 +281,7 @@ impl ReducedBody {
     /// `α₀ = (τ_g + M(0)) / I₀`:
     ///
     /// ```text
-    /// (Λ − ω₀² 1 − α₀ G) q = ω₀² b − α₀ d − g (sin θ₀ S_x + cos θ₀ S_y)
+    /// (Λ − ω₀² 1 − α₀ G) q = ω₀² b − α₀ d − g (sin θ₀ S_x + cos θ₀ S_y) + M(0) h
     /// ```
     ///
     /// (the modal equations of motion with `θ̈ = α₀`, `θ̇ = ω₀`, `q̇ = q̈ = 0`).
