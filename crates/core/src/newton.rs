@@ -44,7 +44,9 @@ pub use settings::{NewtonReport, NewtonSettings, Timings};
 /// Workspace of the constrained Newton solver: the pattern, the factorisation and buffers, all
 /// allocated once.
 pub struct Solver {
-    chol: Cholesky,
+    /// The sparse Cholesky factorisation (its symbolic analysis); `None` for a solver made by
+    /// [`Solver::deferred`] until its first factorisation.
+    chol: Option<Cholesky>,
     rows: [Vec<f64>; 2],
     g: Vec<f64>,
     k: Vec<f64>,
@@ -137,9 +139,17 @@ impl Solver {
     /// and the first `rotating` degrees of freedom those of the body whose frame the reused
     /// factorisation follows (see [`Solver::minimize`]).
     pub fn with_bodies(pattern: &Pattern, hinge: &Hinge, fixed: Dirichlet, rotating: usize) -> Result<Self, Error> {
+        let mut solver = Self::deferred(pattern, hinge, fixed, rotating);
+        solver.chol = Some(Cholesky::new(pattern)?);
+        Ok(solver)
+    }
+
+    /// As [`Solver::with_bodies`] with the symbolic analysis put off to the first factorisation:
+    /// for a model that may never factorise its full tangent (a reduced body steps in its own
+    /// coordinates), whose set-up then does not pay for the fill-reducing ordering.
+    pub fn deferred(pattern: &Pattern, hinge: &Hinge, fixed: Dirichlet, rotating: usize) -> Self {
         let n = pattern.n;
-        let chol = Cholesky::new(pattern)?;
-        Ok(Self {
+        Self {
             rows: hinge.dense_rows(n),
             g: vec![0.0; n],
             k: vec![0.0; pattern.nnz()],
@@ -154,14 +164,23 @@ impl Solver {
             diagonal_max: 0.0,
             fixed,
             rotating,
-            chol,
+            chol: None,
             timings: Timings::default(),
-        })
+        }
     }
 
-    /// Stored entries of the Cholesky factor.
+    /// Stored entries of the Cholesky factor (0 before the symbolic analysis of a
+    /// [`Solver::deferred`] solver).
     pub fn factor_nnz(&self) -> usize {
-        self.chol.factor_nnz()
+        self.chol.as_ref().map_or(0, Cholesky::factor_nnz)
+    }
+
+    /// The Cholesky factorisation, its symbolic analysis made now if it was put off.
+    fn cholesky(&mut self, pattern: &Pattern) -> Result<&mut Cholesky, Error> {
+        if self.chol.is_none() {
+            self.chol = Some(Cholesky::new(pattern)?);
+        }
+        Ok(self.chol.as_mut().expect("made above"))
     }
 
     /// The gradient `∇Φ` of the last assembly (a view for diagnostics).

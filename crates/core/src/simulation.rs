@@ -126,6 +126,8 @@ pub struct Simulation {
     reduced: Option<crate::reduced::ReducedState>,
     /// The reduced body's error estimate so far ([`crate::reduced::validity`]).
     validity: crate::reduced::Validity,
+    /// The reduced body's last fully evaluated stress state, for [`Simulation::von_mises_max`].
+    stress_reference: crate::reduced::outputs::StressReference,
     /// A warning not yet taken by [`Simulation::take_warning`].
     pending_warning: Option<String>,
     /// Whether [`Simulation::state`]'s displacement and velocity lag the reduced body's

@@ -28,10 +28,17 @@ impl Solver {
         report: &mut NewtonReport,
     ) -> Result<(), NewtonError> {
         let start = std::time::Instant::now();
-        let factored = self.chol.factor(pattern, &self.k);
+        // a deferred symbolic analysis that fails (it only can for want of memory) leaves no
+        // factorisation, as a singular tangent does
+        let k = std::mem::take(&mut self.k);
+        let factored = match self.cholesky(pattern) {
+            Ok(chol) => chol.factor(pattern, &k).is_ok(),
+            Err(_) => false,
+        };
+        self.k = k;
         self.timings.factorization += start.elapsed().as_secs_f64();
         report.factorizations += 1;
-        if factored.is_err() {
+        if !factored {
             self.factor_frame = None;
             self.factored = None;
             return Err(NewtonError::SingularTangent { iteration });
@@ -50,7 +57,10 @@ impl Solver {
         let n = self.g.len();
         self.hinge_columns[..n].copy_from_slice(&self.rows[0]);
         self.hinge_columns[n..].copy_from_slice(&self.rows[1]);
-        self.chol.solve_in_place(&mut self.hinge_columns);
+        self.chol
+            .as_mut()
+            .expect("called after a factorisation")
+            .solve_in_place(&mut self.hinge_columns);
         self.timings.solve += start.elapsed().as_secs_f64();
         self.factor_frame = Some(state.frame);
         // the pendulum's: other bodies' rows (a wall at rest, unit rows of fixed nodes) add no rounding
@@ -92,7 +102,7 @@ impl Solver {
             )));
         }
         let start = std::time::Instant::now();
-        let factored = self.chol.factor(pattern, &state.values);
+        let factored = self.cholesky(pattern)?.factor(pattern, &state.values);
         self.timings.factorization += start.elapsed().as_secs_f64();
         if factored.is_err() {
             self.factor_frame = None;

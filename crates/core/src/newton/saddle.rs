@@ -49,7 +49,7 @@ impl Solver {
         if turn - dphi != 0.0 {
             rotate_pairs(&mut y[..rot], turn - dphi);
         }
-        self.chol.solve_in_place(y);
+        self.chol.as_mut().expect("a factorisation exists").solve_in_place(y);
         if dphi != 0.0 {
             rotate_pairs(&mut y[..rot], dphi);
         }

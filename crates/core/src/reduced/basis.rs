@@ -366,6 +366,7 @@ impl ReducedBody {
             values,
             nodes: element_nodes,
             counts: counts.to_vec(),
+            ..Default::default()
         };
         Ok(Self {
             proxy,

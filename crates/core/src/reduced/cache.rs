@@ -116,11 +116,14 @@ fn memory() -> &'static Mutex<HashMap<u64, Arc<ReducedBody>>> {
 }
 
 /// The reduced body of `model`: from this process's memory, from the disk, or computed by `build`
-/// (and then kept in both).
-pub fn load_or_build(model: &Model, build: impl FnOnce() -> Result<ReducedBody, Error>) -> Result<ReducedBody, Error> {
+/// (and then kept in both). The models of one process share one body (it is read only).
+pub fn load_or_build(
+    model: &Model,
+    build: impl FnOnce() -> Result<ReducedBody, Error>,
+) -> Result<Arc<ReducedBody>, Error> {
     let key = key(model);
     if let Some(body) = memory().lock().ok().and_then(|m| m.get(&key).cloned()) {
-        return Ok((*body).clone());
+        return Ok(body);
     }
     let path = folder().map(|d| file(&d, key));
     let read = path
@@ -138,8 +141,9 @@ pub fn load_or_build(model: &Model, build: impl FnOnce() -> Result<ReducedBody, 
             body
         }
     };
+    let body = Arc::new(body);
     if let Ok(mut m) = memory().lock() {
-        m.insert(key, Arc::new(body.clone()));
+        m.insert(key, body.clone());
     }
     Ok(body)
 }
@@ -284,7 +288,12 @@ pub fn from_bytes(bytes: &[u8], key: u64) -> Result<ReducedBody, Error> {
         arc,
         reference,
         proxy,
-        stress: StressModes { values, nodes, counts },
+        stress: StressModes {
+            values,
+            nodes,
+            counts,
+            ..Default::default()
+        },
     };
     let n = body.modes();
     let consistent = body.shapes.iter().all(|p| p.len() == body.reference.len())
@@ -327,7 +336,7 @@ mod tests {
         let body = m.reduced.clone().unwrap();
         let k = key(&m);
         let bytes = to_bytes(&body, k);
-        assert_eq!(from_bytes(&bytes, k).unwrap(), body);
+        assert_eq!(from_bytes(&bytes, k).unwrap(), *body);
         assert!(from_bytes(&bytes, k ^ 1).is_err(), "another key");
         let mut damaged = bytes.clone();
         damaged[bytes.len() / 2] ^= 0x10;

@@ -21,7 +21,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// The modes' stresses at the element nodes and how they average at the nodes.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct StressModes {
     /// `σ_k` per element node and component (`[σxx, σyy, σxy, σzz]`), mode by mode: index
     /// `k · 4 N + e · 4 + c` (`N` element nodes) \[Pa per unit amplitude\].
@@ -30,6 +30,151 @@ pub struct StressModes {
     pub nodes: Vec<usize>,
     /// Elements per mesh node.
     pub counts: Vec<f64>,
+    /// The element nodes of each mesh node and the modes' bounds, made on the first
+    /// [`ReducedBody::von_mises_max`].
+    pub index: std::sync::OnceLock<NodeBounds>,
+}
+
+/// The element nodes of each mesh node (ascending, as [`ReducedBody::nodal_stress`] sums them)
+/// and, mode by mode, the averaged von Mises stress of the mode alone at each node,
+/// `B_k(n) = (1/c_n) Σ_{e∋n} vM(σ_k(e, n))`.
+///
+/// Von Mises is a seminorm of the stress (the square root of a positive semidefinite quadratic
+/// form), and the stress at an element node is linear in the amplitudes. So with the nodal values
+/// `V(n, q̂)` of any state `q̂`, at every node `V(n, q) ≤ V(n, q̂) + Σ_k |q_k − q̂_k| B_k(n)`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NodeBounds {
+    /// `members[starts[n]..starts[n + 1]]`: the element nodes of mesh node `n`.
+    starts: Vec<usize>,
+    members: Vec<usize>,
+    /// `B_k(n)` at index `k · N + n` (`N` mesh nodes) \[Pa per unit amplitude\].
+    bounds: Vec<f64>,
+}
+
+/// A state `q̂` with its nodal values `V(n, q̂)` and `T(n, q̂) = Σ_k |q̂_k| B_k(n)` (the scale of
+/// their rounding): the last state whose every nodal value [`ReducedBody::von_mises_max`]
+/// evaluated, kept by the simulation between calls. Any state serves (the bounds hold for every
+/// `q̂`); a close one makes them tight.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StressReference(Option<(Vec<f64>, Vec<f64>, Vec<f64>)>);
+
+/// Relative margin on the bounds of [`NodeBounds`], of `T(n, q) + T(n, q̂)`, against the rounding
+/// of the sums that evaluate the nodal values (`~1e-15` of `T` each).
+const BOUND_MARGIN: f64 = 1e-9;
+
+/// The share of the nodes above which [`ReducedBody::von_mises_max`] evaluates every node and
+/// takes the state as its new reference, rather than evaluating the candidates one by one.
+const CANDIDATE_SHARE: usize = 16;
+
+impl PartialEq for StressModes {
+    /// The same modes (the index is made from them).
+    fn eq(&self, other: &Self) -> bool {
+        (&self.values, &self.nodes, &self.counts) == (&other.values, &other.nodes, &other.counts)
+    }
+}
+
+impl StressModes {
+    /// The element nodes per mesh node and the modes' nodal bounds (see [`NodeBounds`]).
+    fn node_bounds(&self) -> &NodeBounds {
+        self.index.get_or_init(|| {
+            let nn = self.counts.len();
+            let mut starts = vec![0usize; nn + 1];
+            for &n in &self.nodes {
+                starts[n + 1] += 1;
+            }
+            for n in 0..nn {
+                starts[n + 1] += starts[n];
+            }
+            let mut fill = starts.clone();
+            let mut members = vec![0; self.nodes.len()];
+            for (en, &n) in self.nodes.iter().enumerate() {
+                members[fill[n]] = en;
+                fill[n] += 1;
+            }
+            let len = 4 * self.nodes.len();
+            let modes = self.values.len().checked_div(len).unwrap_or(0);
+            let mut bounds = vec![0.0; modes * nn];
+            for k in 0..modes {
+                let col = &self.values[k * len..(k + 1) * len];
+                let b = &mut bounds[k * nn..(k + 1) * nn];
+                for (en, &n) in self.nodes.iter().enumerate() {
+                    let v = &col[4 * en..4 * en + 4];
+                    b[n] += von_mises([v[0], v[1], v[2]], v[3]);
+                }
+                for (bn, c) in b.iter_mut().zip(&self.counts) {
+                    if *c > 0.0 {
+                        *bn /= c;
+                    }
+                }
+            }
+            NodeBounds {
+                starts,
+                members,
+                bounds,
+            }
+        })
+    }
+
+    /// `out(n) += Σ_k |q_k − q̂_k| B_k(n)` (`q̂ = 0` without `reference`).
+    fn add_bounds(&self, index: &NodeBounds, q: &[f64], reference: Option<&[f64]>, out: &mut [f64]) {
+        let nn = out.len();
+        for (k, &a) in q.iter().enumerate() {
+            let d = (a - reference.map_or(0.0, |r| r[k])).abs();
+            if d != 0.0 {
+                let col = &index.bounds[k * nn..(k + 1) * nn];
+                out.iter_mut().zip(col).for_each(|(u, b)| *u += d * b);
+            }
+        }
+    }
+
+    /// The largest nodal value at `q` from the reference `(q̂, V(·, q̂), T(·, q̂))`, evaluating only
+    /// the nodes whose bound reaches the value at the node of the largest bound; `None` when more
+    /// than a [`CANDIDATE_SHARE`]th of the nodes would need it.
+    fn bounded_max(&self, index: &NodeBounds, q: &[f64], q_ref: &[f64], v_ref: &[f64], t_ref: &[f64]) -> Option<f64> {
+        let nn = self.counts.len();
+        let mut upper = v_ref.to_vec();
+        self.add_bounds(index, q, Some(q_ref), &mut upper);
+        let mut scale = t_ref.to_vec();
+        self.add_bounds(index, q, None, &mut scale);
+        let reach: Vec<f64> = (0..nn).map(|n| upper[n] + BOUND_MARGIN * scale[n]).collect();
+        let first = (0..nn)
+            .filter(|&n| self.counts[n] > 0.0)
+            .max_by(|&a, &b| reach[a].total_cmp(&reach[b]))?;
+        if !reach[first].is_finite() {
+            return None;
+        }
+        let mut best = self.node_von_mises(index, q, first);
+        let candidates: Vec<usize> = (0..nn)
+            .filter(|&n| n != first && self.counts[n] > 0.0 && reach[n] >= best)
+            .collect();
+        if candidates.len() > nn / CANDIDATE_SHARE {
+            return None;
+        }
+        for n in candidates {
+            best = best.max(self.node_von_mises(index, q, n));
+        }
+        Some(best)
+    }
+
+    /// The averaged von Mises stress of mesh node `n` for the amplitudes `q`, summed exactly as
+    /// [`ReducedBody::nodal_stress`] sums it (the same operations in the same order: the same bits).
+    fn node_von_mises(&self, index: &NodeBounds, q: &[f64], n: usize) -> f64 {
+        let len = 4 * self.nodes.len();
+        let mut sum = 0.0;
+        for &en in &index.members[index.starts[n]..index.starts[n + 1]] {
+            let mut v = [0.0; 4];
+            for (k, &a) in q.iter().enumerate() {
+                if a != 0.0 {
+                    let x = &self.values[k * len + 4 * en..k * len + 4 * en + 4];
+                    for c in 0..4 {
+                        v[c] += a * x[c];
+                    }
+                }
+            }
+            sum += von_mises([v[0], v[1], v[2]], v[3]);
+        }
+        sum / self.counts[n]
+    }
 }
 
 /// The proxy angle's functionals of the modes.
@@ -102,9 +247,32 @@ impl ReducedBody {
         }
     }
 
-    /// The largest nodal von Mises stress of a state \[Pa\] (see the module doc).
-    pub fn von_mises_max(&self, s: &ReducedState) -> f64 {
-        self.nodal_stress(s).max_von_mises
+    /// The largest nodal von Mises stress of a state \[Pa\] (see the module doc), the same bits as
+    /// [`ReducedBody::nodal_stress`]'s `max_von_mises`, evaluated only where it can be largest:
+    /// the bound of [`NodeBounds`] from the reference state at every node (one pass over the nodes
+    /// per mode, not over the element nodes' four components), the exact value at the node of the
+    /// largest bound, then at every node whose bound reaches that value. Where more than a
+    /// sixteenth of the nodes would need it (no reference yet, or one far from this state), every
+    /// node is evaluated as in `nodal_stress`, and this state becomes the reference.
+    pub fn von_mises_max(&self, s: &ReducedState, reference: &mut StressReference) -> f64 {
+        let sm = &self.stress;
+        let index = sm.node_bounds();
+        let nn = sm.counts.len();
+        let modes = index.bounds.len().checked_div(nn).unwrap_or(0);
+        if let Some((q_ref, v_ref, t_ref)) = &reference.0 {
+            if q_ref.len() == s.q.len() && v_ref.len() == nn {
+                if let Some(max) = sm.bounded_max(index, &s.q, q_ref, v_ref, t_ref) {
+                    return max;
+                }
+            }
+        }
+        let all = self.nodal_stress(s);
+        if modes == s.q.len() {
+            let mut scale = vec![0.0; nn];
+            sm.add_bounds(index, &s.q, None, &mut scale);
+            reference.0 = Some((s.q.clone(), all.von_mises, scale));
+        }
+        all.max_von_mises
     }
 
     /// The averaged nodal Cauchy stress (global axes) and von Mises stress of a state \[Pa\].

@@ -13,14 +13,20 @@ use crate::{Error, Mesh};
 const PROXIMAL_PASSES: usize = 4;
 
 impl Simulation {
-    /// Sets up the run: operators, symbolic factorisation, initial state.
+    /// Sets up the run: operators, symbolic factorisation (for the full model; a reduced body's
+    /// solver makes it only if it ever factorises), initial state.
     pub fn new(model: Model) -> Result<Self, Error> {
-        let solver = Solver::with_bodies(
+        let (pattern, hinge, fixed, rotating) = (
             &model.pattern,
             &model.hinge,
             model.fixed.clone(),
             2 * model.bodies[0].nodes.end,
-        )?;
+        );
+        // a reduced body never factorises the full tangent in its steps
+        let solver = match model.reduced {
+            Some(_) => Solver::deferred(pattern, hinge, fixed, rotating),
+            None => Solver::with_bodies(pattern, hinge, fixed, rotating)?,
+        };
         let state = model.initial_state(None);
         let mut sim = Self {
             theta: 0.0,
@@ -51,6 +57,7 @@ impl Simulation {
             mass_solver: None,
             reduced: None,
             validity: Default::default(),
+            stress_reference: Default::default(),
             pending_warning: None,
             fields_stale: false,
             lazy_fields: Default::default(),

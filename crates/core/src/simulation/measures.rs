@@ -108,7 +108,7 @@ impl Simulation {
         }
         if self.mass_solver.is_none() {
             let m = &self.model;
-            let mut chol = Cholesky::new(&m.pattern).expect("the symbolic analysis succeeded at set-up");
+            let mut chol = Cholesky::new(&m.pattern).expect("the symbolic analysis of a mesh pattern succeeds");
             let mut mass = m.mass.values.clone();
             m.fixed.apply_matrix(&mut mass);
             chol.factor(&m.pattern, &mass)

@@ -82,7 +82,7 @@ pub struct Model {
     pub scheme: Scheme,
     /// The reduced body (`model.kind = "reduced"`), which then carries the dynamics; the fields of
     /// the full model are reconstructed from it for the outputs.
-    pub reduced: Option<ReducedBody>,
+    pub reduced: Option<std::sync::Arc<ReducedBody>>,
 }
 
 impl Model {

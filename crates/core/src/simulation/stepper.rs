@@ -275,7 +275,7 @@ impl Simulation {
     pub fn von_mises_max(&mut self) -> f64 {
         self.stress_evaluations += 1;
         if let (Some(body), Some(r)) = (&self.model.reduced, &self.reduced) {
-            return body.von_mises_max(r);
+            return body.von_mises_max(r, &mut self.stress_reference);
         }
         self.model.max_von_mises(&self.state.u)
     }
