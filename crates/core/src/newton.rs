@@ -175,12 +175,13 @@ impl Solver {
         self.chol.as_ref().map_or(0, Cholesky::factor_nnz)
     }
 
-    /// The Cholesky factorisation, its symbolic analysis made now if it was put off.
-    fn cholesky(&mut self, pattern: &Pattern) -> Result<&mut Cholesky, Error> {
-        if self.chol.is_none() {
-            self.chol = Some(Cholesky::new(pattern)?);
+    /// The Cholesky factorisation `chol` of `pattern` (a solver's field), its symbolic analysis
+    /// made now if it was put off ([`Solver::deferred`]).
+    fn analysed<'a>(chol: &'a mut Option<Cholesky>, pattern: &Pattern) -> Result<&'a mut Cholesky, Error> {
+        if chol.is_none() {
+            *chol = Some(Cholesky::new(pattern)?);
         }
-        Ok(self.chol.as_mut().expect("made above"))
+        Ok(chol.as_mut().expect("made above"))
     }
 
     /// The gradient `∇Φ` of the last assembly (a view for diagnostics).

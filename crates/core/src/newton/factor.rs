@@ -30,12 +30,7 @@ impl Solver {
         let start = std::time::Instant::now();
         // a deferred symbolic analysis that fails (it only can for want of memory) leaves no
         // factorisation, as a singular tangent does
-        let k = std::mem::take(&mut self.k);
-        let factored = match self.cholesky(pattern) {
-            Ok(chol) => chol.factor(pattern, &k).is_ok(),
-            Err(_) => false,
-        };
-        self.k = k;
+        let factored = Self::analysed(&mut self.chol, pattern).is_ok_and(|chol| chol.factor(pattern, &self.k).is_ok());
         self.timings.factorization += start.elapsed().as_secs_f64();
         report.factorizations += 1;
         if !factored {
@@ -102,7 +97,7 @@ impl Solver {
             )));
         }
         let start = std::time::Instant::now();
-        let factored = self.cholesky(pattern)?.factor(pattern, &state.values);
+        let factored = Self::analysed(&mut self.chol, pattern)?.factor(pattern, &state.values);
         self.timings.factorization += start.elapsed().as_secs_f64();
         if factored.is_err() {
             self.factor_frame = None;

@@ -115,28 +115,26 @@ impl StressModes {
         })
     }
 
-    /// `out(n) += Σ_k |q_k − q̂_k| B_k(n)` (`q̂ = 0` without `reference`).
-    fn add_bounds(&self, index: &NodeBounds, q: &[f64], reference: Option<&[f64]>, out: &mut [f64]) {
+    /// `out(n) += Σ_k w_k B_k(n)`.
+    fn add_bounds(&self, index: &NodeBounds, weights: impl Iterator<Item = f64>, out: &mut [f64]) {
         let nn = out.len();
-        for (k, &a) in q.iter().enumerate() {
-            let d = (a - reference.map_or(0.0, |r| r[k])).abs();
-            if d != 0.0 {
+        for (k, w) in weights.enumerate() {
+            if w != 0.0 {
                 let col = &index.bounds[k * nn..(k + 1) * nn];
-                out.iter_mut().zip(col).for_each(|(u, b)| *u += d * b);
+                out.iter_mut().zip(col).for_each(|(u, b)| *u += w * b);
             }
         }
     }
 
     /// The largest nodal value at `q` from the reference `(q̂, V(·, q̂), T(·, q̂))`, evaluating only
     /// the nodes whose bound reaches the value at the node of the largest bound; `None` when more
-    /// than a [`CANDIDATE_SHARE`]th of the nodes would need it.
+    /// than a [`CANDIDATE_SHARE`]th of the nodes would need it. The bound with its margin,
+    /// `V(n, q̂) + Σ_k |q_k − q̂_k| B_k(n) + BOUND_MARGIN (T(n, q̂) + T(n, q))`, in one pass per mode.
     fn bounded_max(&self, index: &NodeBounds, q: &[f64], q_ref: &[f64], v_ref: &[f64], t_ref: &[f64]) -> Option<f64> {
         let nn = self.counts.len();
-        let mut upper = v_ref.to_vec();
-        self.add_bounds(index, q, Some(q_ref), &mut upper);
-        let mut scale = t_ref.to_vec();
-        self.add_bounds(index, q, None, &mut scale);
-        let reach: Vec<f64> = (0..nn).map(|n| upper[n] + BOUND_MARGIN * scale[n]).collect();
+        let mut reach: Vec<f64> = v_ref.iter().zip(t_ref).map(|(v, t)| v + BOUND_MARGIN * t).collect();
+        let weights = q.iter().zip(q_ref).map(|(a, r)| (a - r).abs() + BOUND_MARGIN * a.abs());
+        self.add_bounds(index, weights, &mut reach);
         let first = (0..nn)
             .filter(|&n| self.counts[n] > 0.0)
             .max_by(|&a, &b| reach[a].total_cmp(&reach[b]))?;
@@ -269,7 +267,7 @@ impl ReducedBody {
         let all = self.nodal_stress(s);
         if modes == s.q.len() {
             let mut scale = vec![0.0; nn];
-            sm.add_bounds(index, &s.q, None, &mut scale);
+            sm.add_bounds(index, s.q.iter().map(|a| a.abs()), &mut scale);
             reference.0 = Some((s.q.clone(), all.von_mises, scale));
         }
         all.max_von_mises
