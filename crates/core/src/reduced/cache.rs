@@ -4,10 +4,14 @@
 //!
 //! **The key** is a hash of everything the body depends on and nothing else: the mesh (the model
 //! fingerprint's mesh part), the configuration's `[geometry]`, `[mesh]` (less the file's path),
-//! `[material]`, `[model]`, `[wall]` and `[contact]` sections, and the core's source code
-//! (`PENDULUM_FEM_SOURCE_HASH`, made by the build script from every file of `src/`): gravity,
-//! the start, the time step, the torque and the solver do not enter the basis, so a sweep over
-//! them shares one body, and a build with other code never reads another build's file.
+//! `[material]`, `[model]`, `[wall]` and `[contact]` sections, whether the model has a torque term,
+//! and the core's source code (`PENDULUM_FEM_SOURCE_HASH`, made by the build script from every
+//! file of `src/`): gravity, the start, the time step, the torque's profile and size and the
+//! solver do not enter the basis, so a sweep over them shares one body, and a build with other
+//! code never reads another build's file. A torque term adds its entries to the sparsity pattern
+//! the set-up is computed on, which changes the fill-reducing ordering and so the set-up's
+//! rounding (1e-14 relative): with the term's presence in the key, a run's results never depend
+//! on which run filled the cache.
 //!
 //! **On disk** in `$PENDULUM_FEM_CACHE` if set (`off` turns the disk off), else
 //! `$XDG_CACHE_HOME/pendulum-fem` or `~/.cache/pendulum-fem`: one file `reduced-<key>.bin` per body,
@@ -62,9 +66,10 @@ pub fn key(model: &Model) -> u64 {
         }
     }
     let text = format!(
-        "{CACHE_VERSION}/{}/{:016x}/{}",
+        "{CACHE_VERSION}/{}/{:016x}/torque term {}/{}",
         env!("PENDULUM_FEM_SOURCE_HASH"),
         model.fingerprint.mesh,
+        model.torque.is_some(),
         serde_json::Value::Object(kept)
     );
     fnv1a(text.as_bytes())
