@@ -30,7 +30,7 @@ pub struct ModelConfig {
     /// Fixed-frame normal modes of the reduced body (the static correction modes come on top).
     pub modes: usize,
     /// Patches of unit normal load on the head's arc as static modes of the reduced body (with a
-    /// wall).
+    /// wall), half an arc edge apart around each point where the turning body first touches it.
     pub contact_modes: usize,
 }
 
