@@ -166,6 +166,11 @@ struct Station {
     ds: f64,
     /// The length of the point's edge \[m\].
     edge: f64,
+    /// Distance from the head's centre \[m\], polar angle about it \[rad\], and the unit vector
+    /// towards it (the wall's push).
+    radius: f64,
+    angle: f64,
+    inward: [f64; 2],
 }
 
 /// The arc points where the undeformed body, turned rigidly about the pivot, first touches the
@@ -225,6 +230,7 @@ fn touch_points(positions: &[[f64; 2]], face_x: f64) -> Vec<usize> {
 /// arc's quadrature points (on the tutorial's head, whose arc leaves out where the rod joins it,
 /// 5 mm below the circle's centre: the patches' widths are off by less than a tenth).
 fn arc_loads(model: &Model, ndof: usize, contact: usize) -> Vec<Vec<f64>> {
+    use std::f64::consts::{PI, TAU};
     if contact == 0 || model.wall.is_none() {
         return Vec::new();
     }
@@ -237,15 +243,18 @@ fn arc_loads(model: &Model, ndof: usize, contact: usize) -> Vec<Vec<f64>> {
             position,
             ds,
             edge: 0.0,
+            radius: 0.0,
+            angle: 0.0,
+            inward: [0.0; 2],
         });
     });
-    // each edge's three points come in a row: their ds add up to the edge's length
-    for edge in stations.chunks_mut(3) {
-        let length: f64 = edge.iter().map(|s| s.ds).sum();
-        edge.iter_mut().for_each(|s| s.edge = length);
-    }
     if stations.is_empty() {
         return Vec::new();
+    }
+    // each edge's points come in a row: their ds add up to the edge's length
+    for edge in stations.chunks_mut(crate::quadrature::GAUSS3_UNIT.len()) {
+        let length: f64 = edge.iter().map(|s| s.ds).sum();
+        edge.iter_mut().for_each(|s| s.edge = length);
     }
     let centre = {
         let k = stations.len() as f64;
@@ -254,12 +263,13 @@ fn arc_loads(model: &Model, ndof: usize, contact: usize) -> Vec<Vec<f64>> {
             .fold([0.0, 0.0], |a, p| [a[0] + p.position[0], a[1] + p.position[1]]);
         [s[0] / k, s[1] / k]
     };
-    // the wall pushes the head towards its centre
-    let inward = |p: [f64; 2]| {
-        let r = [p[0] - centre[0], p[1] - centre[1]];
-        let norm = r[0].hypot(r[1]).max(1e-300);
-        [-r[0] / norm, -r[1] / norm]
-    };
+    for st in &mut stations {
+        let r = [st.position[0] - centre[0], st.position[1] - centre[1]];
+        st.radius = r[0].hypot(r[1]);
+        st.angle = r[1].atan2(r[0]);
+        let norm = st.radius.max(1e-300);
+        st.inward = [-r[0] / norm, -r[1] / norm];
+    }
     let positions: Vec<[f64; 2]> = stations.iter().map(|s| s.position).collect();
     let mut loads = Vec::new();
     for touch in touch_points(&positions, model.config.wall.x) {
@@ -267,20 +277,16 @@ fn arc_loads(model: &Model, ndof: usize, contact: usize) -> Vec<Vec<f64>> {
         let spacing = 0.5 * at.edge;
         // the patches' centres along the arc, measured as the angle about the head's centre
         // times the touch point's radius (the stations need not come in the arc's order)
-        let r0 = [at.position[0] - centre[0], at.position[1] - centre[1]];
-        let (radius, angle0) = (r0[0].hypot(r0[1]), r0[1].atan2(r0[0]));
         for k in 0..contact {
             let offset = (k as f64 - 0.5 * (contact - 1) as f64) * spacing;
             let mut load = vec![0.0; ndof];
             for st in &stations {
-                let r = [st.position[0] - centre[0], st.position[1] - centre[1]];
-                let da = (r[1].atan2(r[0]) - angle0 + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                    - std::f64::consts::PI;
-                let hat = (1.0 - (radius * da - offset).abs() / spacing).max(0.0);
+                let da = (st.angle - at.angle + PI).rem_euclid(TAU) - PI;
+                let hat = (1.0 - (at.radius * da - offset).abs() / spacing).max(0.0);
                 if hat == 0.0 {
                     continue;
                 }
-                let t = inward(st.position);
+                let t = st.inward;
                 for a in 0..3 {
                     load[2 * st.nodes[a]] += hat * t[0] * st.basis[a] * st.ds;
                     load[2 * st.nodes[a] + 1] += hat * t[1] * st.basis[a] * st.ds;
