@@ -239,10 +239,11 @@ fn same_impacts(name: &str, sets: &[&str], impacts: usize, tolerance: f64) -> (P
     (full, reduced, ef, er)
 }
 
-#[test]
-fn the_reduced_body_strikes_the_rigid_wall_as_the_full_model_does() {
-    // one impact, at issue 20's bar, 0.1 ms (measured 5e-6 s)
-    let (full, reduced, ef, er) = same_impacts("wall", &["wall.kind=rigid", "time.dt=0.01", "time.end=0.7"], 1, 1e-4);
+/// Runs the full and the reduced model with `sets` to one impact and asserts issue 20's bars for
+/// it: the impact's start and end within 0.1 ms, the first rebound within 0.005°, the reduced
+/// model's energy within 1e-8 relative; returns both folders.
+fn same_first_impact(name: &str, sets: &[&str]) -> (PathBuf, PathBuf) {
+    let (full, reduced, ef, er) = same_impacts(name, sets, 1, 1e-4);
     let (rf, rr) = (first_rebound(&full, ef[1].1), first_rebound(&reduced, er[1].1));
     println!("first rebound {rf:.6}° (full) and {rr:.6}° (reduced)");
     assert!(
@@ -252,8 +253,15 @@ fn the_reduced_body_strikes_the_rigid_wall_as_the_full_model_does() {
     let balance = energy_drift(&reduced);
     assert!(
         balance < 1e-8,
-        "the reduced body's energy drifts by {balance:e} relative"
+        "the reduced model's energy drifts by {balance:e} relative"
     );
+    (full, reduced)
+}
+
+#[test]
+fn the_reduced_body_strikes_the_rigid_wall_as_the_full_model_does() {
+    // measured: 5.2e-6 s, 19.99964° against 19.99965°, 2e-15
+    let (full, reduced) = same_first_impact("wall", &["wall.kind=rigid", "time.dt=0.01", "time.end=0.7"]);
     let _ = std::fs::remove_dir_all(&full);
     let _ = std::fs::remove_dir_all(&reduced);
 }
@@ -298,25 +306,38 @@ fn the_reduced_body_rebounds_from_a_stiff_wall_as_high_as_the_converged_full_mod
 
 #[test]
 fn a_reduced_run_stopped_and_restarted_from_its_snapshot_replays_bit_for_bit() {
+    use pendulum_fem::config::WallKind;
     use pendulum_fem::{Config, Simulation, Snapshot};
-    let mut cfg = Config::default();
-    cfg.model.kind = pendulum_fem::config::ModelKind::Reduced;
-    cfg.wall.kind = pendulum_fem::config::WallKind::Rigid;
-    let mesh = pendulum_fem::mesh::generate(&cfg).unwrap();
-    let mut a = Simulation::from_config(&cfg, mesh.clone()).unwrap();
-    let mut b = Simulation::from_config(&cfg, mesh).unwrap();
-    for _ in 0..20 {
-        a.step(0.01).unwrap();
+    // stopped at 0.2 s, before the impact at 0.24 s, replayed through it
+    for wall in [WallKind::Rigid, WallKind::Deformable] {
+        let mut cfg = Config::default();
+        cfg.model.kind = pendulum_fem::config::ModelKind::Reduced;
+        cfg.wall.kind = wall;
+        let mesh = pendulum_fem::mesh::generate(&cfg).unwrap();
+        let mut a = Simulation::from_config(&cfg, mesh.clone()).unwrap();
+        let mut b = Simulation::from_config(&cfg, mesh).unwrap();
+        for _ in 0..20 {
+            a.step(0.01).unwrap();
+        }
+        let bytes = a.snapshot().to_bytes();
+        b.restore(&Snapshot::from_bytes(&bytes, "memory").unwrap()).unwrap();
+        for _ in 0..10 {
+            a.step(0.01).unwrap();
+            b.step(0.01).unwrap();
+        }
+        assert_eq!(a.reduced_state(), b.reduced_state(), "{wall:?}");
+        assert_eq!(a.theta().to_bits(), b.theta().to_bits(), "{wall:?}");
+        assert_eq!(a.hinge_reaction(), b.hinge_reaction(), "{wall:?}");
+        assert_eq!(a.energies(), b.energies(), "{wall:?}");
+        if wall == WallKind::Deformable {
+            assert_eq!(
+                a.reduced_state().unwrap().wall_q.len(),
+                9,
+                "the block's weight and 8 face patches"
+            );
+            assert!(a.impacts() > 0, "the replay went through the impact");
+        }
     }
-    let bytes = a.snapshot().to_bytes();
-    b.restore(&Snapshot::from_bytes(&bytes, "memory").unwrap()).unwrap();
-    for _ in 0..10 {
-        a.step(0.01).unwrap();
-        b.step(0.01).unwrap();
-    }
-    assert_eq!(a.reduced_state(), b.reduced_state());
-    assert_eq!(a.theta().to_bits(), b.theta().to_bits());
-    assert_eq!(a.hinge_reaction(), b.hinge_reaction());
 }
 
 /// The largest von Mises stress of a record, searched among the nodes whose bound can reach it,
@@ -465,20 +486,19 @@ fn a_second_reduced_run_reads_its_set_up_from_the_disk_cache_and_writes_the_same
 }
 
 #[test]
-fn the_reduced_body_refuses_a_deformable_wall_naming_the_keys() {
-    let dir = out_dir("refused");
-    let out = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
-        .arg("run")
-        .args(QUIET)
-        .args(["--set", "model.kind=reduced", "--set", "wall.kind=deformable", "-o"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let msg = String::from_utf8_lossy(&out.stderr);
+fn the_reduced_body_strikes_the_deformable_wall_as_the_full_model_does() {
+    // the block reduced beside the pendulum (its static modes, crate::reduced::wall): at issue
+    // 20's bars for the rigid wall (measured 5.2e-6 s, as for the rigid wall, 19.99902° against
+    // 19.99899°, 3e-15), and the same impulse within 1e-6 relative (measured 1.6e-8:
+    // the block's compliance under the head is the full model's)
+    let sets = ["wall.kind=deformable", "time.dt=0.01", "time.end=0.7"];
+    let (full, reduced) = same_first_impact("deformable", &sets);
+    let impulse = |dir: &Path| columns(&dir.join("events.csv"))["impulse_N_s"][1];
+    let (jf, jr) = (impulse(&full), impulse(&reduced));
     assert!(
-        msg.contains("model.kind = \"reduced\"") && msg.contains("wall.kind = \"deformable\""),
-        "{msg}"
+        (jf - jr).abs() < 1e-6 * jf,
+        "impulse {jf} N s (full) and {jr} N s (reduced)"
     );
-    assert!(!dir.join("results.csv").exists(), "nothing written");
+    let _ = std::fs::remove_dir_all(&full);
+    let _ = std::fs::remove_dir_all(&reduced);
 }

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{ContactMethod, Scheme, TorqueProfile, WallKind};
+use super::{ContactMethod, Scheme, TorqueProfile};
 use crate::error::Error;
 
 /// Which body the pendulum is.
@@ -63,9 +63,7 @@ impl ModelConfig {
         if self.kind == ModelKind::Full {
             return Ok(());
         }
-        let unsupported = if config.wall.kind == WallKind::Deformable {
-            Some("wall.kind = \"deformable\" (a second body); allowed with the reduced body: \"none\" or \"rigid\"")
-        } else if config.time.scheme != Scheme::EnergyMomentum {
+        let unsupported = if config.time.scheme != Scheme::EnergyMomentum {
             Some("time.scheme other than \"energy-momentum\"; the reduced body steps with its own discrete gradient")
         } else if config.torque.profile != TorqueProfile::None && !config.torque.follower {
             Some("torque.follower = false; the reduced body's torque turns with it")

@@ -182,7 +182,7 @@ struct Station {
 /// inside no other point's arc ends a free range, and that point is where the body touches there.
 /// A body that is behind the face at every angle (a point with `c > 1`, or arcs covering the
 /// circle) has no free range and no touch point.
-fn touch_points(positions: &[[f64; 2]], face_x: f64) -> Vec<usize> {
+pub(crate) fn touch_points(positions: &[[f64; 2]], face_x: f64) -> Vec<usize> {
     use std::f64::consts::TAU;
     let mut arcs = Vec::new();
     for (i, p) in positions.iter().enumerate() {
@@ -298,6 +298,70 @@ fn arc_loads(model: &Model, ndof: usize, contact: usize) -> Vec<Vec<f64>> {
     loads
 }
 
+/// The Rayleigh–Ritz basis of the span of `vectors` (each of length `ndof`): M-orthonormal (each
+/// vector in turn orthogonalised against those before it, twice, and dropped when less than 1e-8
+/// of it is left) and K-diagonal, `K` applied by `stiffness(b, y)` (`y = K b`); the shapes with
+/// their `λ = φᵀKφ`, ascending.
+pub(crate) fn ritz(
+    vectors: impl Iterator<Item = Vec<f64>>,
+    ndof: usize,
+    mass: &crate::terms::inertia::MassMatrix,
+    stiffness: impl Fn(&[f64], &mut [f64]),
+) -> (Vec<Vec<f64>>, Vec<f64>) {
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    let mut mv = vec![0.0; ndof];
+    for mut v in vectors {
+        mass.apply(&v, &mut mv);
+        let norm0 = dot(&v, &mv).sqrt();
+        if norm0.is_nan() || norm0 <= 0.0 {
+            continue;
+        }
+        for _pass in 0..2 {
+            for b in &basis {
+                mass.apply(b, &mut mv);
+                let c = dot(&v, &mv);
+                v.iter_mut().zip(b).for_each(|(x, y)| *x -= c * y);
+            }
+        }
+        mass.apply(&v, &mut mv);
+        let norm = dot(&v, &mv).sqrt();
+        if norm > 1e-8 * norm0 {
+            v.iter_mut().for_each(|x| *x /= norm);
+            basis.push(v);
+        }
+    }
+    let n = basis.len();
+    let kb: Vec<Vec<f64>> = basis
+        .iter()
+        .map(|b| {
+            let mut y = vec![0.0; ndof];
+            stiffness(b, &mut y);
+            y
+        })
+        .collect();
+    let mut kr = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            kr[i * n + j] = 0.5 * (dot(&basis[i], &kb[j]) + dot(&basis[j], &kb[i]));
+        }
+    }
+    let (lambda, vecs) = jacobi_eigen(&mut kr, n);
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| lambda[a].total_cmp(&lambda[b]));
+    let shapes = order
+        .iter()
+        .map(|&k| {
+            let mut phi = vec![0.0; ndof];
+            for (i, b) in basis.iter().enumerate() {
+                let c = vecs[i * n + k];
+                phi.iter_mut().zip(b).for_each(|(x, y)| *x += c * y);
+            }
+            phi
+        })
+        .collect();
+    (shapes, order.iter().map(|&k| lambda[k]).collect())
+}
+
 impl ReducedBody {
     /// Builds the reduced body of the pendulum of `model` (its first body) from the normal modes
     /// `normal` (any basis of fixed-frame modes, each satisfying [`frame_rows`]) and the static
@@ -305,71 +369,21 @@ impl ReducedBody {
     pub fn build(model: &Model, normal: Vec<Vec<f64>>, settings: BasisSettings) -> Result<Self, Error> {
         let ndof = 2 * model.bodies[0].nodes.end;
         if model.pattern.n != ndof {
-            return Err(Error::Config(
-                "model.kind = \"reduced\" models the pendulum alone: a deformable wall (a second body) needs model.kind = \"full\""
-                    .into(),
-            ));
+            return Err(Error::Config(format!(
+                "the reduced body is built from a model of the pendulum alone ({ndof} unknowns), not one of {} \
+                 (a deformable wall is reduced beside it, crate::reduced::wall)",
+                model.pattern.n
+            )));
         }
         let pattern = &model.pattern;
         let stiffness = stiffness_at_rest(model);
         let rows = frame_rows(model)?;
         let loads = correction_fields(model, ndof, settings.contact)?;
         let statics = constrained_static(pattern, &stiffness, &rows, &loads)?;
-        // M-orthonormal span: the normal modes first, then what each static mode adds
-        let mut basis: Vec<Vec<f64>> = Vec::new();
-        let mut mv = vec![0.0; ndof];
-        for v in normal.into_iter().chain(statics) {
-            let mut v = v;
-            model.mass.apply(&v, &mut mv);
-            let norm0 = dot(&v, &mv).sqrt();
-            if norm0.is_nan() || norm0 <= 0.0 {
-                continue;
-            }
-            for _pass in 0..2 {
-                for b in &basis {
-                    model.mass.apply(b, &mut mv);
-                    let c = dot(&v, &mv);
-                    v.iter_mut().zip(b).for_each(|(x, y)| *x -= c * y);
-                }
-            }
-            model.mass.apply(&v, &mut mv);
-            let norm = dot(&v, &mv).sqrt();
-            if norm > 1e-8 * norm0 {
-                v.iter_mut().for_each(|x| *x /= norm);
-                basis.push(v);
-            }
-        }
-        // Rayleigh–Ritz: diagonalise K on the span
-        let n = basis.len();
-        let kb: Vec<Vec<f64>> = basis
-            .iter()
-            .map(|b| {
-                let mut y = vec![0.0; ndof];
-                pattern.sym_matvec(&stiffness, b, &mut y);
-                y
-            })
-            .collect();
-        let mut kr = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..n {
-                kr[i * n + j] = 0.5 * (dot(&basis[i], &kb[j]) + dot(&basis[j], &kb[i]));
-            }
-        }
-        let (lambda, vecs) = jacobi_eigen(&mut kr, n);
-        let mut order: Vec<usize> = (0..n).collect();
-        order.sort_by(|&a, &b| lambda[a].total_cmp(&lambda[b]));
-        let shapes: Vec<Vec<f64>> = order
-            .iter()
-            .map(|&k| {
-                let mut phi = vec![0.0; ndof];
-                for (i, b) in basis.iter().enumerate() {
-                    let c = vecs[i * n + k];
-                    phi.iter_mut().zip(b).for_each(|(x, y)| *x += c * y);
-                }
-                phi
-            })
-            .collect();
-        let stiffness: Vec<f64> = order.iter().map(|&k| lambda[k]).collect();
+        // the normal modes first, then what each static mode adds
+        let (shapes, stiffness) = ritz(normal.into_iter().chain(statics), ndof, &model.mass, |b, y| {
+            pattern.sym_matvec(&stiffness, b, y)
+        });
         Self::from_shapes(model, shapes, stiffness)
     }
 

@@ -40,17 +40,22 @@
 //! step; and since `θ` is a coordinate, a rigid
 //! rotation (a free spin in its relative equilibrium, a spin-up by a constant torque) carries no
 //! phase error from the scheme.
+//!
+//! A deformable wall is reduced beside the body ([`wall`]): its amplitudes join the step's
+//! unknowns, and the contact couples the two through the full model's face term.
 
 pub mod basis;
 pub mod cache;
 pub mod outputs;
 pub mod step;
 pub mod validity;
+pub mod wall;
 
 pub use basis::BasisSettings;
 pub use outputs::{ProxyModes, StressModes};
 pub use step::{Loads, StepReport};
 pub use validity::{Validity, WARNING_BOUND};
+pub use wall::ReducedWall;
 
 /// One quadrature point of the head's arc in modal form.
 #[derive(Clone, Debug, PartialEq)]
@@ -117,6 +122,10 @@ pub struct ReducedState {
     pub q: Vec<f64>,
     /// Velocities `(θ̇, q̇)` \[rad/s, √kg m/s\].
     pub v: Vec<f64>,
+    /// The deformable wall's amplitudes `r` \[√kg m\] ([`wall`]); empty without it.
+    pub wall_q: Vec<f64>,
+    /// Their velocities `ṙ` \[√kg m/s\].
+    pub wall_v: Vec<f64>,
     /// The factorised step Jacobian the next step starts from ([`ReducedBody::step`]).
     pub jacobian: Option<step::Factor>,
 }
@@ -320,6 +329,8 @@ impl ReducedBody {
             theta,
             q,
             v,
+            wall_q: Vec::new(),
+            wall_v: Vec::new(),
             jacobian: None,
         }
     }

@@ -25,6 +25,7 @@
 //! free spin in its relative equilibrium (`q̇ = 0`, `Λq = ω²(b + q)`) is a fixed point of the rule,
 //! advancing `θ` by exactly `ω h`.
 
+use super::wall::{Placed, ReducedWall};
 use super::{rotate, ReducedBody, ReducedState};
 use crate::terms::WallContact;
 
@@ -36,6 +37,8 @@ pub struct Loads<'a> {
     pub torque: f64,
     /// The rigid wall, if any.
     pub wall: Option<&'a WallContact>,
+    /// The deformable wall, reduced, and its contact with the head ([`super::wall`]), if any.
+    pub block: Option<(&'a ReducedWall, &'a WallContact)>,
 }
 
 /// What a converged step reports besides its state.
@@ -78,15 +81,28 @@ struct Scratch {
     qm: Vec<f64>,
     q1: Vec<f64>,
     grad: Vec<f64>,
+    /// The deformable wall's end amplitudes and gradient, and the placed nodes of its contact.
+    r1: Vec<f64>,
+    grad_r: Vec<f64>,
+    placed: Option<Placed>,
 }
 
 impl Scratch {
-    fn new(n: usize) -> Self {
+    fn new(n: usize, loads: &Loads, s0: &ReducedState) -> Self {
+        let placed = loads.block.map(|(wall, _)| {
+            let mut p = ReducedWall::workspace(wall.first_dof + wall.shapes.first().map_or(0, Vec::len));
+            wall.place_start(&mut p, s0.theta, &s0.q, &s0.wall_q);
+            p
+        });
+        let m = s0.wall_q.len();
         Self {
             e: vec![0.0; n],
             qm: vec![0.0; n],
             q1: vec![0.0; n],
             grad: vec![0.0; n],
+            r1: vec![0.0; m],
+            grad_r: vec![0.0; m],
+            placed,
         }
     }
 }
@@ -211,6 +227,30 @@ impl ReducedBody {
                 force[0] -= c;
             }
         }
+        if let (Some((wall, contact)), Some(placed)) = (loads.block, s.placed.as_mut()) {
+            // the block's rows: ṙ₁ − ṙ₀ + h (Λ r_m + w + Ψᵀ∇ᵈΠ_c)
+            let (r0, rv0, rv1) = (&s0.wall_q, &s0.wall_v, &v1[n + 1..]);
+            for k in 0..r0.len() {
+                s.r1[k] = r0[k] + 0.5 * h * (rv0[k] + rv1[k]);
+                s.grad_r[k] = wall.stiffness[k] * 0.5 * (r0[k] + s.r1[k]) + wall.weight[k];
+            }
+            let face = wall.contact_gradient(
+                contact,
+                placed,
+                [theta0, theta1],
+                &q1,
+                &qm,
+                &s.r1,
+                &mut grad,
+                &mut s.grad_r,
+            );
+            d_theta += face.theta;
+            force[0] += face.force[0];
+            force[1] += face.force[1];
+            for k in 0..r0.len() {
+                r[n + 1 + k] = rv1[k] - rv0[k] + h * s.grad_r[k];
+            }
+        }
         r[0] = p1[0] - p0[0] + h * d_theta;
         for i in 0..n {
             r[1 + i] = p1[1 + i] - p0[1 + i] + h * grad[i];
@@ -233,14 +273,20 @@ impl ReducedBody {
         s: &mut Scratch,
         jac: &mut [f64],
     ) {
-        let m = self.modes() + 1;
+        let m = v1.len();
         let inf = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |a, b| a.max(b.abs()));
         // θ̇ and q̇ have different units: a scale each, q̇'s at least √I θ̇ (the same kinetic
         // energy), so that the differences stay far above the roundings of stiff modes' rows
         let theta_scale = s0.v[0].abs().max(v1[0].abs()).max(r[0].abs() / self.inertia).max(1e-12);
-        let q_scale = inf(&mut s0.v[1..].iter().copied())
+        // the velocity change a residual would give: a mode's row weighs `1 + λ h²/4`
+        let block = loads.block.map_or(&[][..], |(wall, _)| &wall.stiffness[..]);
+        let impulse = r[1..]
+            .iter()
+            .zip(self.stiffness.iter().chain(block))
+            .map(|(x, l)| x / (1.0 + 0.25 * l * h * h));
+        let q_scale = inf(&mut s0.v[1..].iter().chain(&s0.wall_v).copied())
             .max(inf(&mut v1[1..].iter().copied()))
-            .max(inf(&mut r[1..].iter().copied()))
+            .max(inf(&mut impulse.into_iter()))
             .max(self.inertia.sqrt() * theta_scale);
         let mut rp = vec![0.0; m];
         for j in 0..m {
@@ -265,14 +311,37 @@ impl ReducedBody {
     /// Converged: the update of `v₁` below `1e-12` of the velocities' scale (or exactly zero).
     pub fn step(&self, s0: &ReducedState, h: f64, loads: &Loads) -> Result<(ReducedState, StepReport), NotConverged> {
         let n = self.modes();
-        let m = n + 1;
-        let mut s = Scratch::new(n);
+        // the pendulum's n + 1 velocities, then the deformable wall's
+        let m = n + 1 + s0.wall_v.len();
+        let v0: Vec<f64> = s0.v.iter().chain(&s0.wall_v).copied().collect();
+        let mut s = Scratch::new(n, loads, s0);
         // predictor: the start's velocities and accelerations (the potential's gradient at the
-        // start, from the discrete gradient of a step of length 0)
+        // start, from the discrete gradient of a step of length 0; the block's without contact)
         let mut v = {
             let grad = self.potential_gradient(s0, loads);
             let a = self.accelerations(s0, &grad);
-            (0..m).map(|i| s0.v[i] + h * a[i]).collect::<Vec<f64>>()
+            // each mode as a linear oscillator `q̈ = −λ q + f` under the midpoint rule,
+            // `q̇₁ (1 + c) = q̇₀ (1 − c) + h q̈₀` with `c = λ h²/4`: explicit for the slow modes, and
+            // the stiff ones (the contact patches', ω h ≫ 1) stay bounded instead of overshooting
+            // by `ω h` (an impulse 1e9 times the step's, whose Jacobian by differences was useless)
+            let mut v: Vec<f64> = (0..n + 1)
+                .map(|i| match i {
+                    0 => s0.v[0] + h * a[0],
+                    _ => {
+                        let c = 0.25 * self.stiffness[i - 1] * h * h;
+                        (s0.v[i] * (1.0 - c) + h * a[i]) / (1.0 + c)
+                    }
+                })
+                .collect();
+            // the block's rows without the contact, solved exactly (the midpoint rule of a
+            // linear oscillator: its stiff modes, ω h ≫ 1, ring at bounded amplitude)
+            if let Some((wall, _)) = loads.block {
+                v.extend((0..wall.modes()).map(|k| {
+                    let c = 0.25 * wall.stiffness[k] * h * h;
+                    (s0.wall_v[k] * (1.0 - c) - h * (wall.stiffness[k] * s0.wall_q[k] + wall.weight[k])) / (1.0 + c)
+                }));
+            }
+            v
         };
         let mut r = vec![0.0; m];
         let mut factor = match &s0.jacobian {
@@ -302,8 +371,8 @@ impl ReducedBody {
             }
             // the velocities' scale: θ̇ against θ̇ (or its change), q̇ against q̇, both floored by
             // the other's scale times the largest arm (q̇ ~ θ̇ √I)
-            let wt = v[0].abs().max(s0.v[0].abs()).max((v[0] - s0.v[0]).abs());
-            let wq = (1..m).map(|i| v[i].abs().max(s0.v[i].abs())).fold(0.0, f64::max);
+            let wt = v[0].abs().max(v0[0].abs()).max((v[0] - v0[0]).abs());
+            let wq = (1..m).map(|i| v[i].abs().max(v0[i].abs())).fold(0.0, f64::max);
             let floor = 1e-300;
             let ut = dv[0].abs() / (1e-12 * (wt + wq / self.inertia.sqrt()) + floor);
             let uq =
@@ -314,10 +383,16 @@ impl ReducedBody {
             update = ut.max(uq);
             if update <= 1.0 || dv.iter().all(|d| *d == 0.0) {
                 let force = self.residual(s0, &v, h, loads, &mut s, &mut r);
+                let wall_q = (0..m - n - 1)
+                    .map(|k| s0.wall_q[k] + 0.5 * h * (s0.wall_v[k] + v[n + 1 + k]))
+                    .collect();
+                let wall_v = v.split_off(n + 1);
                 let state = ReducedState {
                     theta: s0.theta + 0.5 * h * (s0.v[0] + v[0]),
                     q: (0..n).map(|i| s0.q[i] + 0.5 * h * (s0.v[1 + i] + v[1 + i])).collect(),
                     v,
+                    wall_q,
+                    wall_v,
                     jacobian: Some(factor),
                 };
                 return Ok((

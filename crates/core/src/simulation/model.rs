@@ -12,7 +12,7 @@ use crate::config::{
 use crate::constraint::Hinge;
 use crate::newmark::{Newmark, State};
 use crate::post::{NodalStress, RigidProjection};
-use crate::reduced::ReducedBody;
+use crate::reduced::{ReducedBody, ReducedWall};
 use crate::terms::inertia::{BodyMass, MassMatrix};
 use crate::terms::{StepContext, Term, Torque, WallContact};
 use crate::{Error, Mesh};
@@ -83,6 +83,9 @@ pub struct Model {
     /// The reduced body (`model.kind = "reduced"`), which then carries the dynamics; the fields of
     /// the full model are reconstructed from it for the outputs.
     pub reduced: Option<std::sync::Arc<ReducedBody>>,
+    /// The deformable wall reduced beside the reduced body (`model.kind = "reduced"` with
+    /// `wall.kind = "deformable"`, [`crate::reduced::wall`]).
+    pub reduced_wall: Option<std::sync::Arc<ReducedWall>>,
 }
 
 impl Model {
@@ -99,6 +102,13 @@ impl Model {
         // block's must not be turned with the pendulum
         check_wall_clearance(config, &mesh)?;
         let pendulum_mesh = mesh;
+        // a reduced pendulum beside a deformable wall is built from a model of the pendulum
+        // alone, with a rigid face where the block's is (its contact modes and touch points)
+        let twin = (config.model.kind == ModelKind::Reduced && config.wall.kind == WallKind::Deformable).then(|| {
+            let mut c = config.clone();
+            (c.model.kind, c.wall.kind) = (ModelKind::Full, WallKind::Rigid);
+            (c, pendulum_mesh.clone())
+        });
         let mut others = others.to_vec();
         if config.wall.kind == WallKind::Deformable {
             // the contact tutorial's block: a second body, held on its left, top and bottom edges
@@ -207,8 +217,14 @@ impl Model {
             hht_alpha,
             scheme: config.time.scheme,
             reduced: None,
+            reduced_wall: None,
         };
-        if config.model.kind == ModelKind::Reduced {
+        if let Some((c, mesh)) = twin {
+            let twin = Model::new(&c, mesh)?;
+            let body = crate::reduced::cache::load_or_build(&twin, || crate::reduced::basis::for_model(&twin))?;
+            let wall = ReducedWall::build(&model, &body, config.model.contact_modes)?;
+            (model.reduced, model.reduced_wall) = (Some(body), Some(std::sync::Arc::new(wall)));
+        } else if config.model.kind == ModelKind::Reduced {
             model.reduced = Some(crate::reduced::cache::load_or_build(&model, || {
                 crate::reduced::basis::for_model(&model)
             })?);

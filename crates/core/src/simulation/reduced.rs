@@ -17,8 +17,13 @@ impl Simulation {
             return;
         };
         let torque0 = self.model.applied_torque(0.0, self.held_torque);
-        let r = body.initial_state(&self.model.config, torque0);
+        let mut r = body.initial_state(&self.model.config, torque0);
         body.fields(&r, &mut self.state.u, &mut self.state.v);
+        if let Some(wall) = &self.model.reduced_wall {
+            // the block starts at rest, undeformed, as the full model's
+            (r.wall_q, r.wall_v) = (vec![0.0; wall.modes()], vec![0.0; wall.modes()]);
+            wall.fields(&r.wall_q, &r.wall_v, &mut self.state.u, &mut self.state.v);
+        }
         self.reduced = Some(r);
         self.rates = None;
         self.validity = Default::default();
@@ -115,10 +120,12 @@ impl Simulation {
         let t0 = self.state.t;
         let torque = 0.5 * (m.applied_torque(t0, self.held_torque) + m.applied_torque(t0 + h, self.held_torque));
         let g = m.config.gravity.g;
+        let block = m.reduced_wall.as_deref().zip(m.wall.as_ref());
         let loads = Loads {
             gravity: g,
             torque,
-            wall: m.wall.as_ref(),
+            wall: if block.is_some() { None } else { m.wall.as_ref() },
+            block,
         };
         let (r1, report) = body.step(r0, h, &loads).map_err(|e| {
             (
@@ -141,6 +148,9 @@ impl Simulation {
         // the accessors do, on demand
         if m.wall.is_some() {
             body.fields(&r1, &mut self.state.u, &mut self.state.v);
+            if let Some(wall) = &m.reduced_wall {
+                wall.fields(&r1.wall_q, &r1.wall_v, &mut self.state.u, &mut self.state.v);
+            }
         } else {
             self.fields_stale = true;
             self.lazy_fields = Default::default();
@@ -175,11 +185,23 @@ impl Simulation {
         };
         let m = &self.model;
         let torque = m.applied_torque(self.state.t, self.held_torque);
-        let (omega, alpha) = body.rates(r, m.config.gravity.g, torque, m.wall.as_ref());
+        let rigid = if m.reduced_wall.is_some() {
+            None
+        } else {
+            m.wall.as_ref()
+        };
+        let (omega, mut alpha) = body.rates(r, m.config.gravity.g, torque, rigid);
+        // the deformable wall: its contact's moment on the head, from the fields (kept current
+        // after every step with a wall), and the block's kinetic energy
+        let mut kinetic = body.kinetic(r);
+        if let (Some(wall), Some(contact)) = (&m.reduced_wall, &m.wall) {
+            alpha += wall.contact_moment(contact, &self.state.u) / body.inertia_at(&r.q);
+            kinetic += 0.5 * r.wall_v.iter().map(|v| v * v).sum::<f64>();
+        }
         Some(Kinematics {
             omega,
             alpha,
-            kinetic: body.kinetic(r),
+            kinetic,
             momentum: body.momenta(r)[0],
         })
     }

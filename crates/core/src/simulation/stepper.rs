@@ -193,8 +193,15 @@ impl Simulation {
     pub(super) fn energies_with(&self, kinetic: f64) -> Energies {
         let cx = self.context();
         let (s, m) = (&self.state, &self.model);
-        let (strain, gravity, contact) = match (&m.reduced, &self.reduced) {
-            (Some(body), Some(r)) => (
+        let (strain, gravity, contact) = match (&m.reduced, &self.reduced, &m.reduced_wall) {
+            // the deformable wall: the block's modal strain energy, its weight and the contact
+            // from the fields, which every step with a wall brings up to date
+            (Some(body), Some(r), Some(wall)) => (
+                body.strain(&r.q) + wall.strain(&r.wall_q),
+                body.gravity(r, m.config.gravity.g) + crate::terms::Term::energy(&m.bodies[1].gravity, &s.u, &cx),
+                m.contact_energy(&s.u, &cx),
+            ),
+            (Some(body), Some(r), None) => (
                 body.strain(&r.q),
                 body.gravity(r, m.config.gravity.g),
                 m.wall.as_ref().map_or(0.0, |w| body.contact(r, w).0),
@@ -220,7 +227,12 @@ impl Simulation {
     /// `results.csv`); without one, the smallest signed distance of the arc's nodes to the plane
     /// `x = wall.x` (`+∞` for a mesh without the arc).
     pub fn gap(&self) -> f64 {
-        if let (Some(body), Some(r), Some(wall)) = (&self.model.reduced, &self.reduced, &self.model.wall) {
+        if let (Some(body), Some(r), Some(wall), None) = (
+            &self.model.reduced,
+            &self.reduced,
+            &self.model.wall,
+            &self.model.reduced_wall,
+        ) {
             return body.contact(r, wall).1;
         }
         let u = &self.state.u;
@@ -238,7 +250,12 @@ impl Simulation {
     /// column of `results.csv`, a negative zero as 0); 0 without a wall. The one reading of the
     /// contact force for the FMU's and the Python package's outputs.
     pub fn contact_force(&self) -> f64 {
-        if let (Some(body), Some(r), Some(wall)) = (&self.model.reduced, &self.reduced, &self.model.wall) {
+        if let (Some(body), Some(r), Some(wall), None) = (
+            &self.model.reduced,
+            &self.reduced,
+            &self.model.wall,
+            &self.model.reduced_wall,
+        ) {
             return crate::post::unsigned_zero(body.contact(r, wall).2);
         }
         self.model

@@ -15,8 +15,9 @@ use crate::reduced::ReducedState;
 use crate::Error;
 
 /// Version of the byte format of [`Snapshot::to_bytes`] (3: the fingerprint in three parts, without
-/// file paths; 4: the impact's last sub-step ends; 5: the reduced body's coordinates, velocities and step Jacobian).
-pub const SNAPSHOT_VERSION: u32 = 5;
+/// file paths; 4: the impact's last sub-step ends; 5: the reduced body's coordinates, velocities and step Jacobian; 6: the reduced deformable wall's
+/// amplitudes and velocities).
+pub const SNAPSHOT_VERSION: u32 = 6;
 
 const MAGIC: &[u8; 8] = b"PFEMSNAP";
 
@@ -200,6 +201,8 @@ impl Snapshot {
                 w.f64(r.theta);
                 w.vec(&r.q);
                 w.vec(&r.v);
+                w.vec(&r.wall_q);
+                w.vec(&r.wall_v);
                 match &r.jacobian {
                     Some(j) => {
                         w.u8(1);
@@ -337,6 +340,8 @@ impl Snapshot {
                 theta: r.f64("reduced body")?,
                 q: r.vec("reduced body")?,
                 v: r.vec("reduced body")?,
+                wall_q: r.vec("reduced body")?,
+                wall_v: r.vec("reduced body")?,
                 jacobian: if r.flag("reduced body")? {
                     let step = r.f64("reduced body")?;
                     let lu = r.vec("reduced body")?;
