@@ -56,6 +56,8 @@ pub struct Validity {
     pub steps: usize,
     /// The largest strain energy at which the estimate was evaluated \[J\].
     pub strain: f64,
+    /// The contact events seen by the deformable wall's check ([`crate::reduced::wall`]).
+    pub events: usize,
 }
 
 impl Validity {
@@ -64,6 +66,15 @@ impl Validity {
     pub fn due(&mut self, strain: f64) -> bool {
         self.steps += 1;
         self.steps >= EVERY || strain > STRAIN_FACTOR * self.strain
+    }
+
+    /// Keeps `message` as the run's warning unless one was given before; returns it if kept.
+    pub fn warn(&mut self, message: String) -> Option<&str> {
+        if self.warning.is_some() {
+            return None;
+        }
+        self.warning = Some(message);
+        self.warning.as_deref()
     }
 
     /// Takes the estimate `eta` of the state at time `t` with the strain energy `strain` \[J\];
@@ -99,16 +110,23 @@ impl ReducedBody {
         let cx = StepContext::at(&u, 0.0, 0.0, None);
         let mut force = vec![0.0; model.pattern.n];
         model.bodies[0].elastic.add_gradient(&u, &cx, &mut force);
-        let (mut error, mut norm) = (0.0, 0.0);
-        for ((phi, &lambda), &a) in self.shapes.iter().zip(&self.stiffness).zip(q) {
-            let r = super::dot(phi, &force[..nd]) - lambda * a;
-            error += r * r / lambda;
-            norm += lambda * a * a;
-        }
-        if norm > 0.0 {
-            (error / norm).sqrt()
-        } else {
-            0.0
-        }
+        relative_error(&self.shapes, &self.stiffness, q, &force[..nd])
+    }
+}
+
+/// `η = √(Σ ρ_k²/λ_k) / √(Σ λ_k a_k²)`, `ρ_k = φ_k · f − λ_k a_k`: the modes `shapes` with
+/// squared frequencies `stiffness` at the amplitudes `a` against the full model's elastic forces
+/// `f` at `Σ a_k φ_k` (over the same degrees of freedom); 0 at rest.
+pub(crate) fn relative_error(shapes: &[Vec<f64>], stiffness: &[f64], a: &[f64], force: &[f64]) -> f64 {
+    let (mut error, mut norm) = (0.0, 0.0);
+    for ((phi, &lambda), &x) in shapes.iter().zip(stiffness).zip(a) {
+        let r = super::dot(phi, force) - lambda * x;
+        error += r * r / lambda;
+        norm += lambda * x * x;
+    }
+    if norm > 0.0 {
+        (error / norm).sqrt()
+    } else {
+        0.0
     }
 }

@@ -8,6 +8,7 @@
 
 use super::{Kinematics, Simulation};
 use crate::error::NewtonError;
+use crate::reduced::wall::QUASI_STATIC;
 use crate::reduced::Loads;
 
 impl Simulation {
@@ -36,9 +37,42 @@ impl Simulation {
         let (Some(body), Some(r)) = (&self.model.reduced, &self.reduced) else {
             return;
         };
-        let eta = body.error_estimate(&self.model, &r.q);
+        let mut eta = body.error_estimate(&self.model, &r.q);
+        if let Some(wall) = &self.model.reduced_wall {
+            eta = eta.max(wall.error_estimate(&self.model, &r.wall_q));
+        }
         if let Some(w) = self.validity.observe(eta, self.state.t, body.strain(&r.q)) {
             self.pending_warning = Some(w.to_string());
+        }
+    }
+
+    /// With the reduced deformable wall: whether every finished impact lasted at least
+    /// [`QUASI_STATIC`] periods of the block's lowest Ritz frequency ([`crate::reduced::wall`]);
+    /// warns once otherwise.
+    fn check_quasi_static(&mut self) {
+        use super::impact::ContactEventKind;
+        let Some(wall) = &self.model.reduced_wall else {
+            return;
+        };
+        let period = wall.lowest_period();
+        let shortest = self
+            .events
+            .windows(2)
+            .filter(|w| w[0].kind == ContactEventKind::Start && w[1].kind == ContactEventKind::End)
+            .map(|w| (w[1].time - w[0].time, w[0].time))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((duration, t)) = shortest.filter(|(d, _)| *d < QUASI_STATIC * period) {
+            let message = format!(
+                "warning: the reduced deformable wall (model.kind = \"reduced\") does not apply here: the impact at \
+                 t = {t:.6} s lasted {duration:.3e} s, {:.1} periods of the block's lowest frequency ({:.4e} Hz), fewer \
+                 than {QUASI_STATIC}: its inertia matters and its static modes miss it; use model.kind = \"full\" (or \
+                 a stiffer block)",
+                duration / period,
+                1.0 / period
+            );
+            if let Some(w) = self.validity.warn(message) {
+                self.pending_warning = Some(w.to_string());
+            }
         }
     }
 
@@ -113,6 +147,11 @@ impl Simulation {
     /// One step of length `h` of the reduced body; the fields, multipliers and the torque's work
     /// follow. On failure nothing changes.
     fn reduced_step(&mut self, h: f64) -> Result<usize, (NewtonError, f64)> {
+        // the impacts ended since the last step, against the block's static basis
+        if self.model.reduced_wall.is_some() && self.events.len() != self.validity.events {
+            self.validity.events = self.events.len();
+            self.check_quasi_static();
+        }
         let (Some(body), Some(r0)) = (&self.model.reduced, &self.reduced) else {
             unreachable!("advance_reduced is called for a reduced model")
         };
