@@ -269,17 +269,57 @@ impl ReducedBody {
         self.modal_sum(&s.q, &mut y);
         let mut yd = vec![0.0; nd];
         self.modal_sum(&w[1..], &mut yd);
-        let (sn, cs) = s.theta.sin_cos();
+        let turn = s.theta.sin_cos();
         for k in 0..nd / 2 {
-            let (x0, x1) = (self.reference[2 * k], self.reference[2 * k + 1]);
-            let p = [x0 + y[2 * k], x1 + y[2 * k + 1]];
-            u[2 * k] = cs * p[0] - sn * p[1] - x0;
-            u[2 * k + 1] = sn * p[0] + cs * p[1] - x1;
-            // θ̇ J p + Φ q̇ in the frame, then turned
-            let l = [-w[0] * p[1] + yd[2 * k], w[0] * p[0] + yd[2 * k + 1]];
-            v[2 * k] = cs * l[0] - sn * l[1];
-            v[2 * k + 1] = sn * l[0] + cs * l[1];
+            let y = [y[2 * k], y[2 * k + 1]];
+            let yd = [yd[2 * k], yd[2 * k + 1]];
+            self.place_node(k, turn, w[0], y, yd, u, v);
         }
+    }
+
+    /// [`ReducedBody::fields`] at the nodes `nodes` only (the same numbers): for the readers of a
+    /// few nodes after every step (the wall's contact reads the head's arc).
+    pub fn fields_at(&self, s: &ReducedState, nodes: &[usize], u: &mut [f64], v: &mut [f64]) {
+        let w = &s.v;
+        let turn = s.theta.sin_cos();
+        // the sums of `modal_sum`, in its order
+        let sum = |a: &[f64], d: usize| {
+            let mut x = 0.0;
+            for (phi, &c) in self.shapes.iter().zip(a) {
+                if c != 0.0 {
+                    x += c * phi[d];
+                }
+            }
+            x
+        };
+        for &k in nodes {
+            let y = [sum(&s.q, 2 * k), sum(&s.q, 2 * k + 1)];
+            let yd = [sum(&w[1..], 2 * k), sum(&w[1..], 2 * k + 1)];
+            self.place_node(k, turn, w[0], y, yd, u, v);
+        }
+    }
+
+    /// Node `k`'s displacement and velocity from its elastic displacement `y` and velocity `yd` in
+    /// the frame, the frame's turn `(sin θ, cos θ)` and rate `θ̇`.
+    #[allow(clippy::too_many_arguments)]
+    fn place_node(
+        &self,
+        k: usize,
+        (sn, cs): (f64, f64),
+        rate: f64,
+        y: [f64; 2],
+        yd: [f64; 2],
+        u: &mut [f64],
+        v: &mut [f64],
+    ) {
+        let (x0, x1) = (self.reference[2 * k], self.reference[2 * k + 1]);
+        let p = [x0 + y[0], x1 + y[1]];
+        u[2 * k] = cs * p[0] - sn * p[1] - x0;
+        u[2 * k + 1] = sn * p[0] + cs * p[1] - x1;
+        // θ̇ J p + Φ q̇ in the frame, then turned
+        let l = [-rate * p[1] + yd[0], rate * p[0] + yd[1]];
+        v[2 * k] = cs * l[0] - sn * l[1];
+        v[2 * k + 1] = sn * l[0] + cs * l[1];
     }
 }
 

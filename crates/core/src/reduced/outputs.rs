@@ -202,7 +202,11 @@ impl ReducedBody {
         // −∂V_g/∂θ = −g (cos θ m_x − sin θ m_y)
         let mut moment = -g * (cs * m[0] - sn * m[1]) + torque;
         if let Some(wall) = wall {
-            for pt in &self.arc {
+            let (clearance, _) = self.clearances(s, wall.face_x);
+            for (pt, &(low, _)) in self.arc.iter().zip(&clearance) {
+                if low > 0.0 {
+                    continue;
+                }
                 let gap = self.gap(pt, s.theta, &s.q, wall.face_x);
                 if gap < 0.0 {
                     let y = pt.in_frame(&s.q);
@@ -215,10 +219,45 @@ impl ReducedBody {
         (self.momenta(s)[0] / inertia, moment / inertia)
     }
 
+    /// Bounds of each arc point's gap to the face `x = face_x` from its rigid position and its
+    /// largest elastic displacement `‖Φ_p‖ ‖q‖`, `(lower, upper)` \[m\], and the smallest upper
+    /// bound (one of the gaps is at most that): a point whose lower bound is positive has no
+    /// force, exactly.
+    fn clearances(&self, s: &ReducedState, face_x: f64) -> (Vec<(f64, f64)>, f64) {
+        let qn = dot(&s.q, &s.q).sqrt();
+        let (sn, cs) = s.theta.sin_cos();
+        let bounds: Vec<(f64, f64)> = self
+            .arc
+            .iter()
+            .map(|p| {
+                let x = cs * p.reference[0] - sn * p.reference[1] - face_x;
+                (x - p.bound * qn, x + p.bound * qn)
+            })
+            .collect();
+        let upper = bounds.iter().map(|b| b.1).fold(f64::INFINITY, f64::min);
+        (bounds, upper)
+    }
+
+    /// A lower bound of the arc's gap to the face `x = face_x` \[m\]: the least, over the arc
+    /// points, of the rigid position's gap less the largest elastic displacement `‖Φ_p‖ ‖q‖`;
+    /// positive: no point touches.
+    pub fn clearance(&self, s: &ReducedState, face_x: f64) -> f64 {
+        self.clearances(s, face_x)
+            .0
+            .iter()
+            .map(|b| b.0)
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Contact energy \[J\], smallest gap \[m\] and the wall's normal force \[N\] of a state.
     pub fn contact(&self, s: &ReducedState, wall: &WallContact) -> (f64, f64, f64) {
         let (mut energy, mut smallest, mut force) = (0.0, f64::INFINITY, 0.0);
-        for pt in &self.arc {
+        let (clearance, upper) = self.clearances(s, wall.face_x);
+        for (pt, &(low, _)) in self.arc.iter().zip(&clearance) {
+            // apart, and not the closest: its gap is above the closest point's bound
+            if low > 0.0 && low > upper {
+                continue;
+            }
             let gap = self.gap(pt, s.theta, &s.q, wall.face_x);
             smallest = smallest.min(gap);
             if gap < 0.0 {

@@ -234,19 +234,24 @@ impl ReducedBody {
                 s.r1[k] = r0[k] + 0.5 * h * (rv0[k] + rv1[k]);
                 s.grad_r[k] = wall.stiffness[k] * 0.5 * (r0[k] + s.r1[k]) + wall.weight[k];
             }
-            let face = wall.contact_gradient(
-                contact,
-                placed,
-                [theta0, theta1],
-                &q1,
-                &qm,
-                &s.r1,
-                &mut grad,
-                &mut s.grad_r,
-            );
-            d_theta += face.theta;
-            force[0] += face.force[0];
-            force[1] += face.force[1];
+            // a head clear of the face at both ends has no contact force
+            let apart = wall.surely_apart(self, theta0, q0, r0, contact.face_x)
+                && wall.surely_apart(self, theta1, &q1, &s.r1, contact.face_x);
+            if !apart {
+                let face = wall.contact_gradient(
+                    contact,
+                    placed,
+                    [theta0, theta1],
+                    &q1,
+                    &qm,
+                    &s.r1,
+                    &mut grad,
+                    &mut s.grad_r,
+                );
+                d_theta += face.theta;
+                force[0] += face.force[0];
+                force[1] += face.force[1];
+            }
             for k in 0..r0.len() {
                 r[n + 1 + k] = rv1[k] - rv0[k] + h * s.grad_r[k];
             }

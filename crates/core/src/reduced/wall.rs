@@ -263,6 +263,33 @@ impl ReducedWall {
         }
     }
 
+    /// A lower bound of the head's distance to the face in the state `(θ, q, r)` \[m\]: over the
+    /// arc points of `body`, turned rigidly, their distance right of the face's line less their
+    /// largest elastic displacement (`‖Φ_p‖ ‖q‖`) and three times the face's largest
+    /// displacement towards the head (a point past the face's end meets its end segment's line
+    /// continued over at most one more segment, the taper, where that line's displacement is at
+    /// most three times the nodes'). Positive: the contact's energy and force are zero.
+    pub fn clearance(&self, body: &ReducedBody, theta: f64, q: &[f64], r: &[f64], face_x: f64) -> f64 {
+        let face = self
+            .face
+            .iter()
+            .filter(|(d, _)| d % 2 == 0)
+            .map(|(_, row)| dot(row, r))
+            .fold(0.0f64, f64::max);
+        let qn = dot(q, q).sqrt();
+        let (s, c) = theta.sin_cos();
+        let line = face_x + 3.0 * face;
+        body.arc
+            .iter()
+            .map(|p| c * p.reference[0] - s * p.reference[1] - p.bound * qn - line)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Whether [`ReducedWall::clearance`] is positive: no point of the head can touch the face.
+    pub fn surely_apart(&self, body: &ReducedBody, theta: f64, q: &[f64], r: &[f64], face_x: f64) -> bool {
+        self.clearance(body, theta, q, r, face_x) > 0.0
+    }
+
     /// A workspace for [`ReducedWall::contact_gradient`] of a model with `ndof` unknowns.
     pub(crate) fn workspace(ndof: usize) -> Placed {
         Placed {

@@ -86,6 +86,11 @@ pub struct Model {
     /// The deformable wall reduced beside the reduced body (`model.kind = "reduced"` with
     /// `wall.kind = "deformable"`, [`crate::reduced::wall`]).
     pub reduced_wall: Option<std::sync::Arc<ReducedWall>>,
+    /// The nodes of the head's arc (the contact boundary) with a wall, none without: all a
+    /// reduced body rebuilds of the pendulum's fields after each step (the contact reads them).
+    pub contact_nodes: Vec<usize>,
+    /// [`Model::length_scale`], computed once (the steps ask for it).
+    length: f64,
 }
 
 impl Model {
@@ -218,7 +223,14 @@ impl Model {
             scheme: config.time.scheme,
             reduced: None,
             reduced_wall: None,
+            contact_nodes: Vec::new(),
+            length: 0.0,
         };
+        let pendulum = &model.mesh.nodes[model.bodies[0].nodes.clone()];
+        model.length = pendulum.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
+        if config.wall.is_present() {
+            model.contact_nodes = model.bodies[0].mesh.nodes_on(CONTACT_BOUNDARY);
+        }
         if let Some((c, mesh)) = twin {
             let twin = Model::new(&c, mesh)?;
             let body = crate::reduced::cache::load_or_build(&twin, || crate::reduced::basis::for_model(&twin))?;
@@ -240,8 +252,7 @@ impl Model {
 
     /// Largest distance of a node of the pendulum from the pivot \[m\].
     pub fn length_scale(&self) -> f64 {
-        let pendulum = &self.mesh.nodes[self.bodies[0].nodes.clone()];
-        pendulum.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max)
+        self.length
     }
 
     /// The pendulum (the first body).

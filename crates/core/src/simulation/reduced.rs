@@ -91,6 +91,9 @@ impl Simulation {
         Some(self.lazy_fields.get_or_init(|| {
             let (mut u, mut v) = (vec![0.0; self.state.u.len()], vec![0.0; self.state.v.len()]);
             body.fields(r, &mut u, &mut v);
+            if let Some(wall) = &self.model.reduced_wall {
+                wall.fields(&r.wall_q, &r.wall_v, &mut u, &mut v);
+            }
             [u, v]
         }))
     }
@@ -185,15 +188,16 @@ impl Simulation {
         self.torque_work += torque * (body.hub_angle(&r1) - body.hub_angle(r0));
         // the impact location reads the fields after every step; without a wall only frames and
         // the accessors do, on demand
+        // (the head's arc and the block: the contact's nodes and the block's weight); the rest
+        // of the fields is rebuilt when read
         if m.wall.is_some() {
-            body.fields(&r1, &mut self.state.u, &mut self.state.v);
+            body.fields_at(&r1, &m.contact_nodes, &mut self.state.u, &mut self.state.v);
             if let Some(wall) = &m.reduced_wall {
                 wall.fields(&r1.wall_q, &r1.wall_v, &mut self.state.u, &mut self.state.v);
             }
-        } else {
-            self.fields_stale = true;
-            self.lazy_fields = Default::default();
         }
+        self.fields_stale = true;
+        self.lazy_fields = Default::default();
         self.state.t = t0 + h;
         self.reduced = Some(r1);
         self.rates = None;
@@ -206,6 +210,18 @@ impl Simulation {
             self.check_validity();
         }
         Ok(report.iterations)
+    }
+
+    /// A lower bound of the reduced body's distance to the wall in the current state \[m\]
+    /// (positive: nothing touches); `None` for the full model or without a wall.
+    pub(super) fn reduced_clearance(&self) -> Option<f64> {
+        let (Some(body), Some(r), Some(wall)) = (&self.model.reduced, &self.reduced, &self.model.wall) else {
+            return None;
+        };
+        Some(match &self.model.reduced_wall {
+            Some(block) => block.clearance(body, r.theta, &r.q, &r.wall_q, wall.face_x),
+            None => body.clearance(r, wall.face_x),
+        })
     }
 
     /// The proxy angle of the current state, on `(−π, π]` for the full model ([`crate::post::RigidProjection`]) and on the frame's branch for a reduced body \[rad\].
@@ -234,7 +250,9 @@ impl Simulation {
         // after every step with a wall), and the block's kinetic energy
         let mut kinetic = body.kinetic(r);
         if let (Some(wall), Some(contact)) = (&m.reduced_wall, &m.wall) {
-            alpha += wall.contact_moment(contact, &self.state.u) / body.inertia_at(&r.q);
+            if self.reduced_clearance().is_some_and(|c| c <= 0.0) {
+                alpha += wall.contact_moment(contact, &self.state.u) / body.inertia_at(&r.q);
+            }
             kinetic += 0.5 * r.wall_v.iter().map(|v| v * v).sum::<f64>();
         }
         Some(Kinematics {

@@ -215,8 +215,9 @@ impl Simulation {
         self.contact_phase = s.contact_phase;
         self.impact_trail = s.impact_trail.clone();
         self.reduced = s.reduced.clone();
-        // a reduced body without a wall kept no fields in the snapshot worth reading
-        self.fields_stale = self.reduced.is_some() && self.model.wall.is_none();
+        // a reduced body's snapshot holds at most the fields its steps read (none without a wall,
+        // the head's arc and the block with one); the rest is rebuilt from its coordinates
+        self.fields_stale = self.reduced.is_some();
         self.lazy_fields = Default::default();
         self.rates = None;
         // The matrix was factorised before with this symbolic analysis; should that fail now, the

@@ -199,7 +199,11 @@ impl Simulation {
             (Some(body), Some(r), Some(wall)) => (
                 body.strain(&r.q) + wall.strain(&r.wall_q),
                 body.gravity(r, m.config.gravity.g) + crate::terms::Term::energy(&m.bodies[1].gravity, &s.u, &cx),
-                m.contact_energy(&s.u, &cx),
+                if self.reduced_clearance().is_some_and(|c| c > 0.0) {
+                    0.0
+                } else {
+                    m.contact_energy(&s.u, &cx)
+                },
             ),
             (Some(body), Some(r), None) => (
                 body.strain(&r.q),
@@ -257,6 +261,9 @@ impl Simulation {
             &self.model.reduced_wall,
         ) {
             return crate::post::unsigned_zero(body.contact(r, wall).2);
+        }
+        if self.reduced_clearance().is_some_and(|c| c > 0.0) {
+            return 0.0;
         }
         self.model
             .wall
