@@ -270,7 +270,7 @@ fn the_reduced_body_strikes_the_rigid_wall_as_the_full_model_does() {
 fn a_soft_reduced_block_warns_that_its_static_modes_miss_the_impact() {
     // E = 0.1 GPa: the impact lasts 3.8 ms, 2.9 periods of the block's lowest Ritz frequency
     // (758 Hz), fewer than crate::reduced::wall::QUASI_STATIC = 10 (its rebound is then 0.017°
-    // off the full model's, against 3e-5° for steel)
+    // off the full model's, against 1.8e-6° for steel)
     let sets = [
         "wall.kind=deformable",
         "wall.youngs_modulus=1e8",
@@ -511,8 +511,8 @@ fn a_second_reduced_run_reads_its_set_up_from_the_disk_cache_and_writes_the_same
 #[test]
 fn the_reduced_body_strikes_the_deformable_wall_as_the_full_model_does() {
     // the block reduced beside the pendulum (its static modes, crate::reduced::wall): at issue
-    // 20's bars for the rigid wall (measured 5.2e-6 s, as for the rigid wall, 19.99902° against
-    // 19.99899°, 3e-15), and the same impulse within 1e-6 relative (measured 1.6e-8:
+    // 20's bars for the rigid wall (measured 5.2e-6 s, as for the rigid wall, 19.999641° against
+    // 19.999642°, 3e-15), and the same impulse within 1e-6 relative (measured 1.5e-8:
     // the block's compliance under the head is the full model's)
     let sets = ["wall.kind=deformable", "time.dt=0.01", "time.end=0.7"];
     let (full, reduced) = same_first_impact("deformable", &sets);

@@ -28,7 +28,7 @@
 //! answers the head's push quasi-statically and the static modes carry that answer, its
 //! compliance under the contact.
 //! Against the full model at dt = 0.01 s the impacts come within 5.2e-6 s, the impulse within
-//! 1.6e-8 and the rebound within 3e-5° (`tests/reduced.rs`).
+//! 1.5e-8 and the first rebound within 1.8e-6° (`tests/reduced.rs`).
 //!
 //! ## When it does not apply
 //!
@@ -38,12 +38,12 @@
 //! answers quasi-statically: an impact that lasts less than [`QUASI_STATIC`] periods of the
 //! block's lowest Ritz frequency (a soft block, whose inertia then matters) makes the run warn
 //! once. Measured at dt = 0.01 s, the first impact of the tutorial's swing against blocks of
-//! other Young's moduli (rebound and ω leaving the block, against the full model's):
+//! other Young's moduli (the first rebound and ω leaving the block, against the full model's):
 //!
 //! | block's E | periods in the impact | rebound off by | ω off by (relative) |
 //! |---|---|---|---|
-//! | 210 GPa (the tutorial's) | 73 | 3e-5° | 4e-7 |
-//! | 10 GPa | 16 | 1e-4° | 3e-6 |
+//! | 210 GPa (the tutorial's) | 74 | 1.8e-6° | 2.6e-7 |
+//! | 10 GPa | 16 | 5.1e-5° | 2.7e-6 |
 //! | 1 GPa | 5.7 (warns) | 1.3e-3° | 6.6e-5 |
 //! | 0.1 GPa | 2.9 (warns) | 0.017° | 8.5e-4 |
 //!
