@@ -47,6 +47,7 @@
 pub mod basis;
 pub mod cache;
 pub mod outputs;
+mod patches;
 pub mod step;
 pub mod validity;
 pub mod wall;

@@ -130,7 +130,7 @@ fn touch_heights(model: &Model, low: f64, high: f64) -> Vec<f64> {
     let mut positions = Vec::new();
     crate::fe::for_each_edge_point(&model.bodies[0].mesh, CONTACT_BOUNDARY, |_, _, x, _| positions.push(x));
     let face_x = model.config.wall.x;
-    let mut heights: Vec<f64> = super::basis::touch_points(&positions, face_x)
+    let mut heights: Vec<f64> = super::patches::touch_points(&positions, face_x)
         .into_iter()
         .flat_map(|k| {
             let r2 = positions[k][0].powi(2) + positions[k][1].powi(2);
