@@ -1,5 +1,6 @@
 //! A [`Simulation`] of a reduced body (`model.kind = "reduced"`, [`crate::reduced`]): its initial
-//! state, its steps, and the full model's fields reconstructed from it after each step, so that
+//! state, its steps, and the full model's fields reconstructed from it (with a wall the head's arc
+//! and the block after each step, for the impacts' location; everything else when read), so that
 //! the outputs, the impacts' location and the records read the same state as the full model's.
 //!
 //! The hinge force over a step is the balance of linear momentum of the reduced motion,
