@@ -202,7 +202,7 @@ impl ReducedBody {
         // −∂V_g/∂θ = −g (cos θ m_x − sin θ m_y)
         let mut moment = -g * (cs * m[0] - sn * m[1]) + torque;
         if let Some(wall) = wall {
-            let (clearance, _) = self.clearances(s, wall.face_x);
+            let (clearance, _) = self.clearances(s.theta, &s.q, wall.face_x);
             for (pt, &(low, _)) in self.arc.iter().zip(&clearance) {
                 if low > 0.0 {
                     continue;
@@ -223,9 +223,9 @@ impl ReducedBody {
     /// largest elastic displacement `‖Φ_p‖ ‖q‖`, `(lower, upper)` \[m\], and the smallest upper
     /// bound (one of the gaps is at most that): a point whose lower bound is positive has no
     /// force, exactly.
-    fn clearances(&self, s: &ReducedState, face_x: f64) -> (Vec<(f64, f64)>, f64) {
-        let qn = dot(&s.q, &s.q).sqrt();
-        let (sn, cs) = s.theta.sin_cos();
+    fn clearances(&self, theta: f64, q: &[f64], face_x: f64) -> (Vec<(f64, f64)>, f64) {
+        let qn = dot(q, q).sqrt();
+        let (sn, cs) = theta.sin_cos();
         let bounds: Vec<(f64, f64)> = self
             .arc
             .iter()
@@ -238,11 +238,11 @@ impl ReducedBody {
         (bounds, upper)
     }
 
-    /// A lower bound of the arc's gap to the face `x = face_x` \[m\]: the least, over the arc
-    /// points, of the rigid position's gap less the largest elastic displacement `‖Φ_p‖ ‖q‖`;
-    /// positive: no point touches.
-    pub fn clearance(&self, s: &ReducedState, face_x: f64) -> f64 {
-        self.clearances(s, face_x)
+    /// A lower bound of the arc's gap to the face `x = face_x` at the turn `theta` and the
+    /// amplitudes `q` \[m\]: the least, over the arc points, of the rigid position's gap less the
+    /// largest elastic displacement `‖Φ_p‖ ‖q‖`; positive: no point touches.
+    pub fn clearance(&self, theta: f64, q: &[f64], face_x: f64) -> f64 {
+        self.clearances(theta, q, face_x)
             .0
             .iter()
             .map(|b| b.0)
@@ -252,7 +252,7 @@ impl ReducedBody {
     /// Contact energy \[J\], smallest gap \[m\] and the wall's normal force \[N\] of a state.
     pub fn contact(&self, s: &ReducedState, wall: &WallContact) -> (f64, f64, f64) {
         let (mut energy, mut smallest, mut force) = (0.0, f64::INFINITY, 0.0);
-        let (clearance, upper) = self.clearances(s, wall.face_x);
+        let (clearance, upper) = self.clearances(s.theta, &s.q, wall.face_x);
         for (pt, &(low, _)) in self.arc.iter().zip(&clearance) {
             // apart, and not the closest: its gap is above the closest point's bound
             if low > 0.0 && low > upper {

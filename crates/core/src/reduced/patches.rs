@@ -97,10 +97,9 @@ pub(super) fn arc_loads(model: &Model, ndof: usize, contact: usize) -> Vec<Vec<f
     if stations.is_empty() {
         return Vec::new();
     }
-    // each edge's points come in a row: their ds add up to the edge's length
-    for edge in stations.chunks_mut(crate::quadrature::GAUSS3_UNIT.len()) {
-        let length: f64 = edge.iter().map(|s| s.ds).sum();
-        edge.iter_mut().for_each(|s| s.edge = length);
+    let ds: Vec<f64> = stations.iter().map(|s| s.ds).collect();
+    for (st, length) in stations.iter_mut().zip(edge_lengths(&ds)) {
+        st.edge = length;
     }
     let centre = {
         let k = stations.len() as f64;
@@ -124,11 +123,11 @@ pub(super) fn arc_loads(model: &Model, ndof: usize, contact: usize) -> Vec<Vec<f
         // the patches' centres along the arc, measured as the angle about the head's centre
         // times the touch point's radius (the stations need not come in the arc's order)
         for k in 0..contact {
-            let offset = (k as f64 - 0.5 * (contact - 1) as f64) * spacing;
+            let offset = patch_offset(k, contact, spacing);
             let mut load = vec![0.0; ndof];
             for st in &stations {
                 let da = (st.angle - at.angle + PI).rem_euclid(TAU) - PI;
-                let hat = (1.0 - (at.radius * da - offset).abs() / spacing).max(0.0);
+                let hat = hat(at.radius * da - offset, spacing);
                 if hat == 0.0 {
                     continue;
                 }
@@ -142,6 +141,29 @@ pub(super) fn arc_loads(model: &Model, ndof: usize, contact: usize) -> Vec<Vec<f
         }
     }
     loads
+}
+
+/// The length of each edge point's edge, from the points' weighted lengths `ds` as
+/// [`crate::fe::for_each_edge_point`] visits them: edge by edge, their `ds` adding up to the
+/// edge's length \[m\].
+pub(crate) fn edge_lengths(ds: &[f64]) -> Vec<f64> {
+    ds.chunks(crate::quadrature::GAUSS3_UNIT.len())
+        .flat_map(|edge| {
+            let length: f64 = edge.iter().sum();
+            std::iter::repeat_n(length, edge.len())
+        })
+        .collect()
+}
+
+/// The centre of patch `k` of `count`, `spacing` apart and centred on the touch point, relative
+/// to it \[m\].
+pub(crate) fn patch_offset(k: usize, count: usize, spacing: f64) -> f64 {
+    (k as f64 - 0.5 * (count - 1) as f64) * spacing
+}
+
+/// A patch's hat at the distance `d` from its centre: 1 there, 0 from `spacing` on.
+pub(crate) fn hat(d: f64, spacing: f64) -> f64 {
+    (1.0 - d.abs() / spacing).max(0.0)
 }
 
 #[cfg(test)]

@@ -59,6 +59,36 @@ pub struct NotConverged {
     pub update: f64,
 }
 
+/// The product rule for differences of a turn from `θ₀` to `θ₁`:
+/// `R₁ − R₀ = Δθ sinc(Δθ/2) R′(θ_m)` and `R̄ = ½(R₀ + R₁) = [rc −rs; rs rc]`, so that
+/// `R₁y₁ − R₀y₀ = Δθ sc R′(θ_m) ȳ + R̄ (y₁ − y₀)` exactly.
+#[derive(Clone, Copy)]
+pub(crate) struct Turn {
+    /// `sinc(Δθ/2)`.
+    pub sc: f64,
+    /// `sin θ_m`, `cos θ_m`.
+    pub sm: f64,
+    pub cm: f64,
+    /// `R̄`'s entries.
+    pub rs: f64,
+    pub rc: f64,
+}
+
+impl Turn {
+    pub(crate) fn between(theta0: f64, theta1: f64) -> Self {
+        let (sm, cm) = (0.5 * (theta0 + theta1)).sin_cos();
+        let (s0, c0) = theta0.sin_cos();
+        let (s1, c1) = theta1.sin_cos();
+        Self {
+            sc: sinc(0.5 * (theta1 - theta0)),
+            sm,
+            cm,
+            rs: 0.5 * (s0 + s1),
+            rc: 0.5 * (c0 + c1),
+        }
+    }
+}
+
 /// `sin(x)/x`.
 fn sinc(x: f64) -> f64 {
     if x.abs() < 1e-4 {
@@ -70,6 +100,14 @@ fn sinc(x: f64) -> f64 {
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// The end velocity of a linear oscillator `ẍ = −λ x + f` over a step `h` of the midpoint rule with
+/// `f` held, from its start velocity `v0` and acceleration `a0`:
+/// `v₁ (1 + c) = v₀ (1 − c) + h a₀`, `c = λ h²/4`.
+fn oscillator_velocity(v0: f64, a0: f64, lambda: f64, h: f64) -> f64 {
+    let c = 0.25 * lambda * h * h;
+    (v0 * (1.0 - c) + h * a0) / (1.0 + c)
 }
 
 /// Largest Newton iterations of a step.
@@ -85,15 +123,21 @@ struct Scratch {
     r1: Vec<f64>,
     grad_r: Vec<f64>,
     placed: Option<Placed>,
+    /// Whether the head is clear of the block's face at the step's start ([`ReducedWall::surely_apart`]).
+    apart0: bool,
 }
 
 impl Scratch {
-    fn new(n: usize, loads: &Loads, s0: &ReducedState) -> Self {
+    fn new(body: &ReducedBody, loads: &Loads, s0: &ReducedState) -> Self {
+        let n = body.modes();
         let placed = loads.block.map(|(wall, _)| {
-            let mut p = ReducedWall::workspace(wall.first_dof + wall.shapes.first().map_or(0, Vec::len));
+            let mut p = wall.workspace();
             wall.place_start(&mut p, s0.theta, &s0.q, &s0.wall_q);
             p
         });
+        let apart0 = loads
+            .block
+            .is_some_and(|(wall, contact)| wall.surely_apart(body, s0.theta, &s0.q, &s0.wall_q, contact.face_x));
         let m = s0.wall_q.len();
         Self {
             e: vec![0.0; n],
@@ -103,6 +147,7 @@ impl Scratch {
             r1: vec![0.0; m],
             grad_r: vec![0.0; m],
             placed,
+            apart0,
         }
     }
 }
@@ -181,13 +226,8 @@ impl ReducedBody {
         grad.iter_mut().for_each(|g| *g = 0.0);
         self.form_gradient(&qm, v0, v1, -0.5, &mut grad);
         // the potential's discrete gradient
-        let dtheta = theta1 - theta0;
-        let thm = 0.5 * (theta0 + theta1);
-        let sc = sinc(0.5 * dtheta);
-        let (sm, cm) = thm.sin_cos();
-        let (s0n, c0n) = theta0.sin_cos();
-        let (s1n, c1n) = theta1.sin_cos();
-        let (rs, rc) = (0.5 * (s0n + s1n), 0.5 * (c0n + c1n)); // R̄ = [rc −rs; rs rc]
+        let turn = Turn::between(theta0, theta1);
+        let Turn { sc, sm, cm, rs, rc } = turn;
         for i in 0..n {
             grad[i] += self.stiffness[i] * qm[i] - loads.torque * self.hub[i];
         }
@@ -235,13 +275,12 @@ impl ReducedBody {
                 s.grad_r[k] = wall.stiffness[k] * 0.5 * (r0[k] + s.r1[k]) + wall.weight[k];
             }
             // a head clear of the face at both ends has no contact force
-            let apart = wall.surely_apart(self, theta0, q0, r0, contact.face_x)
-                && wall.surely_apart(self, theta1, &q1, &s.r1, contact.face_x);
+            let apart = s.apart0 && wall.surely_apart(self, theta1, &q1, &s.r1, contact.face_x);
             if !apart {
                 let face = wall.contact_gradient(
                     contact,
                     placed,
-                    [theta0, theta1],
+                    (theta1, turn),
                     &q1,
                     &qm,
                     &s.r1,
@@ -319,7 +358,7 @@ impl ReducedBody {
         // the pendulum's n + 1 velocities, then the deformable wall's
         let m = n + 1 + s0.wall_v.len();
         let v0: Vec<f64> = s0.v.iter().chain(&s0.wall_v).copied().collect();
-        let mut s = Scratch::new(n, loads, s0);
+        let mut s = Scratch::new(self, loads, s0);
         // predictor: the start's velocities and accelerations (the potential's gradient at the
         // start, from the discrete gradient of a step of length 0; the block's without contact)
         let mut v = {
@@ -332,18 +371,15 @@ impl ReducedBody {
             let mut v: Vec<f64> = (0..n + 1)
                 .map(|i| match i {
                     0 => s0.v[0] + h * a[0],
-                    _ => {
-                        let c = 0.25 * self.stiffness[i - 1] * h * h;
-                        (s0.v[i] * (1.0 - c) + h * a[i]) / (1.0 + c)
-                    }
+                    _ => oscillator_velocity(s0.v[i], a[i], self.stiffness[i - 1], h),
                 })
                 .collect();
-            // the block's rows without the contact, solved exactly (the midpoint rule of a
-            // linear oscillator: its stiff modes, ω h ≫ 1, ring at bounded amplitude)
+            // the block's rows without the contact, solved exactly by the same rule (the block's
+            // modes are linear oscillators)
             if let Some((wall, _)) = loads.block {
                 v.extend((0..wall.modes()).map(|k| {
-                    let c = 0.25 * wall.stiffness[k] * h * h;
-                    (s0.wall_v[k] * (1.0 - c) - h * (wall.stiffness[k] * s0.wall_q[k] + wall.weight[k])) / (1.0 + c)
+                    let a = -(wall.stiffness[k] * s0.wall_q[k] + wall.weight[k]);
+                    oscillator_velocity(s0.wall_v[k], a, wall.stiffness[k], h)
                 }));
             }
             v

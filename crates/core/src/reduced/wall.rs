@@ -58,6 +58,7 @@
 //! coordinates, and the identity holds there: the contact does exactly the work of its energy
 //! change.
 
+use super::step::Turn;
 use super::{dot, ReducedBody};
 use crate::assembly::Dirichlet;
 use crate::mesh::block::FACE;
@@ -115,15 +116,6 @@ pub(crate) struct FaceGradient {
     pub force: [f64; 2],
 }
 
-/// `sin(x)/x`.
-fn sinc(x: f64) -> f64 {
-    if x.abs() < 1e-4 {
-        1.0 - x * x / 6.0
-    } else {
-        x.sin() / x
-    }
-}
-
 /// The heights at which the head's touch points (see [`super::basis`]) meet the face `x = x_w`
 /// when the body turns rigidly, within the face's span `[low, high]`.
 fn touch_heights(model: &Model, low: f64, high: f64) -> Vec<f64> {
@@ -162,18 +154,13 @@ impl ReducedWall {
         block.gravity.add_gradient(&zero, &cx, &mut weight_load);
         weight_load.iter_mut().for_each(|v| *v = -*v);
         let mut loads = vec![weight_load];
-        // face stations: nodes, edge basis, position, weighted length, edge length
+        // face stations: nodes, edge basis, position, weighted length
         let mut stations = Vec::new();
         crate::fe::for_each_edge_point(&block.mesh, FACE, |nodes, basis, x, ds| {
             stations.push((nodes, basis, x, ds))
         });
-        let edge_length = |k: usize| -> f64 {
-            let e = k / crate::quadrature::GAUSS3_UNIT.len() * crate::quadrature::GAUSS3_UNIT.len();
-            stations[e..e + crate::quadrature::GAUSS3_UNIT.len()]
-                .iter()
-                .map(|s| s.3)
-                .sum()
-        };
+        let ds: Vec<f64> = stations.iter().map(|s| s.3).collect();
+        let edge_length = super::patches::edge_lengths(&ds);
         let (low, high) = stations.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), s| {
             (l.min(s.2[1]), h.max(s.2[1]))
         });
@@ -181,12 +168,12 @@ impl ReducedWall {
             let nearest = (0..stations.len())
                 .min_by(|&a, &b| (stations[a].2[1] - at).abs().total_cmp(&(stations[b].2[1] - at).abs()))
                 .expect("the face has stations");
-            let spacing = 0.5 * edge_length(nearest);
+            let spacing = 0.5 * edge_length[nearest];
             for k in 0..contact {
-                let centre = at + (k as f64 - 0.5 * (contact - 1) as f64) * spacing;
+                let centre = at + super::patches::patch_offset(k, contact, spacing);
                 let mut load = vec![0.0; ndof];
                 for (nodes, basis, x, ds) in &stations {
-                    let hat = (1.0 - (x[1] - centre).abs() / spacing).max(0.0);
+                    let hat = super::patches::hat(x[1] - centre, spacing);
                     // the head presses the face towards −x
                     for a in 0..3 {
                         load[2 * nodes[a]] -= hat * basis[a] * ds;
@@ -201,8 +188,8 @@ impl ReducedWall {
         let (shapes, lambda) = super::basis::ritz(statics.into_iter(), ndof, &model.mass, |b, y| {
             pattern.sym_matvec(&stiffness, b, y)
         });
-        let weight: Vec<f64> = loads[0].iter().map(|v| -v).collect::<Vec<f64>>();
-        let weight = shapes.iter().map(|s| dot(s, &weight)).collect();
+        // w = Ψᵀ ∇V_g, the load's negative
+        let weight = shapes.iter().map(|s| -dot(s, &loads[0])).collect();
         let head = head_nodes(model, body);
         let face = block
             .mesh
@@ -263,12 +250,12 @@ impl ReducedWall {
         }
     }
 
-    /// A lower bound of the head's distance to the face in the state `(θ, q, r)` \[m\]: over the
-    /// arc points of `body`, turned rigidly, their distance right of the face's line less their
-    /// largest elastic displacement (`‖Φ_p‖ ‖q‖`) and three times the face's largest
-    /// displacement towards the head (a point past the face's end meets its end segment's line
-    /// continued over at most one more segment, the taper, where that line's displacement is at
-    /// most three times the nodes'). Positive: the contact's energy and force are zero.
+    /// A lower bound of the head's distance to the face in the state `(θ, q, r)` \[m\]: the arc's
+    /// clearance of `body` ([`ReducedBody::clearance`]) from the face's line moved towards the
+    /// head by three times the face's largest displacement that way (a point past the face's end
+    /// meets its end segment's line continued over at most one more segment, the taper, where
+    /// that line's displacement is at most three times the nodes'). Positive: the contact's
+    /// energy and force are zero.
     pub fn clearance(&self, body: &ReducedBody, theta: f64, q: &[f64], r: &[f64], face_x: f64) -> f64 {
         let face = self
             .face
@@ -276,13 +263,7 @@ impl ReducedWall {
             .filter(|(d, _)| d % 2 == 0)
             .map(|(_, row)| dot(row, r))
             .fold(0.0f64, f64::max);
-        let qn = dot(q, q).sqrt();
-        let (s, c) = theta.sin_cos();
-        let line = face_x + 3.0 * face;
-        body.arc
-            .iter()
-            .map(|p| c * p.reference[0] - s * p.reference[1] - p.bound * qn - line)
-            .fold(f64::INFINITY, f64::min)
+        body.clearance(theta, q, face_x + 3.0 * face)
     }
 
     /// Whether [`ReducedWall::clearance`] is positive: no point of the head can touch the face.
@@ -290,8 +271,10 @@ impl ReducedWall {
         self.clearance(body, theta, q, r, face_x) > 0.0
     }
 
-    /// A workspace for [`ReducedWall::contact_gradient`] of a model with `ndof` unknowns.
-    pub(crate) fn workspace(ndof: usize) -> Placed {
+    /// A workspace for [`ReducedWall::contact_gradient`], over the model's unknowns (the block's
+    /// are the last).
+    pub(crate) fn workspace(&self) -> Placed {
+        let ndof = self.first_dof + self.shapes.first().map_or(0, Vec::len);
         Placed {
             u0: vec![0.0; ndof],
             u1: vec![0.0; ndof],
@@ -321,22 +304,22 @@ impl ReducedWall {
         self.place(theta, q, r, &mut w.u0);
     }
 
-    /// The contact's discrete gradient over the step from the placed start to `(θ₁, q₁, r₁)`
-    /// (see the module doc): adds `∂/∂q` into `grad_q` and `∂/∂r` into `grad_r`, returns `∂/∂θ`
+    /// The contact's discrete gradient over the step from the placed start to `(θ₁, q₁, r₁)`, the
+    /// turn `turn` from the start's `θ₀` to `θ₁` (see the module doc): adds `∂/∂q` into `grad_q` and `∂/∂r` into `grad_r`, returns `∂/∂θ`
     /// and the wall's force on the head.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn contact_gradient(
         &self,
         contact: &WallContact,
         w: &mut Placed,
-        theta: [f64; 2],
+        (theta1, turn): (f64, Turn),
         q1: &[f64],
         qm: &[f64],
         r1: &[f64],
         grad_q: &mut [f64],
         grad_r: &mut [f64],
     ) -> FaceGradient {
-        self.place(theta[1], q1, r1, &mut w.u1);
+        self.place(theta1, q1, r1, &mut w.u1);
         let start = StepStart {
             u: &w.u0,
             data: &[],
@@ -344,12 +327,7 @@ impl ReducedWall {
         };
         let cx = StepContext::at(&w.u1, 0.0, 0.0, None);
         contact.add_discrete_gradient(&start, &w.u1, &cx, 1.0, &mut w.g);
-        let dtheta = theta[1] - theta[0];
-        let sc = sinc(0.5 * dtheta);
-        let (sm, cm) = (0.5 * (theta[0] + theta[1])).sin_cos();
-        let (s0, c0) = theta[0].sin_cos();
-        let (s1, c1) = theta[1].sin_cos();
-        let (rs, rc) = (0.5 * (s0 + s1), 0.5 * (c0 + c1));
+        let Turn { sc, sm, cm, rs, rc } = turn;
         let mut out = FaceGradient {
             theta: 0.0,
             force: [0.0; 2],
@@ -402,9 +380,10 @@ impl ReducedWall {
 /// The head's arc nodes of `model` with their rows of the pendulum's modes.
 fn head_nodes(model: &Model, body: &ReducedBody) -> Vec<HeadNode> {
     let mesh = &model.bodies[0].mesh;
-    mesh.nodes_on(CONTACT_BOUNDARY)
-        .into_iter()
-        .map(|a| HeadNode {
+    model
+        .contact_nodes
+        .iter()
+        .map(|&a| HeadNode {
             node: a,
             reference: mesh.nodes[a],
             modes: [

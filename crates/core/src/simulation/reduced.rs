@@ -221,7 +221,7 @@ impl Simulation {
         };
         Some(match &self.model.reduced_wall {
             Some(block) => block.clearance(body, r.theta, &r.q, &r.wall_q, wall.face_x),
-            None => body.clearance(r, wall.face_x),
+            None => body.clearance(r.theta, &r.q, wall.face_x),
         })
     }
 
