@@ -18,6 +18,11 @@
 //! The fill-reducing ordering (AMD) and the symbolic factorisation are computed once per run from
 //! the fixed pattern ([`crate::assembly::Pattern`]); every Newton iteration only refactorises
 //! numerically into preallocated storage.
+//!
+//! The factor's indices are 32-bit: a triangular solve streams the factor's values and row
+//! indices once each, and 4-byte indices make that a quarter less memory to read than 8-byte ones
+//! (the tutorial's factor has 162 thousand entries, 2.6 MB with 8-byte indices, more than a core's
+//! cache). The arithmetic and the ordering are the same, so are the results, bit for bit.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::cholesky::{
@@ -32,7 +37,10 @@ use crate::Error;
 /// A Cholesky factorisation with a fixed symbolic structure (`L Lᵀ`, or `L D Lᵀ` for an
 /// indefinite matrix, see [`Cholesky::factor`]).
 pub struct Cholesky {
-    symbolic: SymbolicCholesky<usize>,
+    symbolic: SymbolicCholesky<u32>,
+    /// The pattern's column pointers and row indices, 32-bit.
+    col_ptr: Vec<u32>,
+    row_idx: Vec<u32>,
     l_values: Vec<f64>,
     mem: MemBuffer,
     par: Par,
@@ -51,7 +59,15 @@ const MAX_RHS: usize = 3;
 impl Cholesky {
     /// Symbolic analysis (ordering, elimination tree, supernodes) of `pattern`.
     pub fn new(pattern: &Pattern) -> Result<Self, Error> {
-        let sym = symbolic_ref(pattern);
+        let narrow = |v: &[usize], what: &str| -> Result<Vec<u32>, Error> {
+            v.iter()
+                .map(|&i| u32::try_from(i))
+                .collect::<Result<_, _>>()
+                .map_err(|_| Error::LinearSolver(format!("the system's {what} exceed 32-bit indices")))
+        };
+        let col_ptr = narrow(&pattern.col_ptr, "entries")?;
+        let row_idx = narrow(&pattern.row_idx, "unknowns")?;
+        let sym = symbolic_ref(pattern.n, &col_ptr, &row_idx);
         let symbolic = factorize_symbolic_cholesky(
             sym,
             Side::Upper,
@@ -71,6 +87,8 @@ impl Cholesky {
         let l_values = vec![0.0; symbolic.len_val()];
         Ok(Self {
             symbolic,
+            col_ptr,
+            row_idx,
             l_values,
             mem,
             par,
@@ -104,7 +122,8 @@ impl Cholesky {
     /// instead of 18.8 s, the same energy balance). A positive definite matrix takes `L Lᵀ` as
     /// before, bit for bit.
     pub fn factor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), Singular> {
-        let a = SparseColMatRef::new(symbolic_ref(pattern), values);
+        debug_assert_eq!(pattern.nnz(), self.row_idx.len(), "the pattern of Cholesky::new");
+        let a = SparseColMatRef::new(symbolic_ref(pattern.n, &self.col_ptr, &self.row_idx), values);
         self.factored = false;
         let stack = MemStack::new(&mut self.mem);
         let positive = self
@@ -158,6 +177,6 @@ impl Cholesky {
     }
 }
 
-fn symbolic_ref(p: &Pattern) -> SymbolicSparseColMatRef<'_, usize> {
-    SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx)
+fn symbolic_ref<'a>(n: usize, col_ptr: &'a [u32], row_idx: &'a [u32]) -> SymbolicSparseColMatRef<'a, u32> {
+    SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx)
 }

@@ -90,16 +90,50 @@ pub fn first_piola(f: &VecF, s: &Sym) -> [f64; 4] {
 /// `expm1(a ln1p(x))`.
 #[inline]
 pub fn pow1p_minus_1(x: f64, a: f64) -> f64 {
-    if x.abs() < 1e-3 {
-        // a x (1 + (a−1)/2 x (1 + (a−2)/3 x (1 + … (1 + (a−5)/6 x))))
-        let t = 1.0 + (a - 5.0) * (1.0 / 6.0) * x;
-        let t = 1.0 + (a - 4.0) * 0.2 * x * t;
-        let t = 1.0 + (a - 3.0) * 0.25 * x * t;
-        let t = 1.0 + (a - 2.0) * (1.0 / 3.0) * x * t;
-        let t = 1.0 + (a - 1.0) * 0.5 * x * t;
-        a * x * t
-    } else {
-        (a * x.ln_1p()).exp_m1()
+    Power::new(a).minus_1(x)
+}
+
+/// `(1 + x)^a − 1` for a fixed exponent `a` ([`pow1p_minus_1`]) with the series' coefficients
+/// `(a − j)/(j + 1)` computed once: a material evaluates its two powers at every quadrature
+/// point of every evaluation, and the coefficients (and `k = λ/μ`, a division) are the same each
+/// time. The same numbers, bit for bit, as computing them in place.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Power {
+    a: f64,
+    /// `(a − 1)/2, (a − 2)/3, (a − 3)/4, (a − 4)/5, (a − 5)/6`.
+    c: [f64; 5],
+}
+
+impl Power {
+    /// The power `a`.
+    pub fn new(a: f64) -> Self {
+        Self {
+            a,
+            c: [
+                (a - 1.0) * 0.5,
+                (a - 2.0) * (1.0 / 3.0),
+                (a - 3.0) * 0.25,
+                (a - 4.0) * 0.2,
+                (a - 5.0) * (1.0 / 6.0),
+            ],
+        }
+    }
+
+    /// `(1 + x)^a − 1`.
+    #[inline]
+    pub fn minus_1(&self, x: f64) -> f64 {
+        if x.abs() < 1e-3 {
+            // a x (1 + (a−1)/2 x (1 + (a−2)/3 x (1 + … (1 + (a−5)/6 x))))
+            let c = &self.c;
+            let t = 1.0 + c[4] * x;
+            let t = 1.0 + c[3] * x * t;
+            let t = 1.0 + c[2] * x * t;
+            let t = 1.0 + c[1] * x * t;
+            let t = 1.0 + c[0] * x * t;
+            self.a * x * t
+        } else {
+            (self.a * x.ln_1p()).exp_m1()
+        }
     }
 }
 
@@ -122,17 +156,27 @@ pub struct Material {
     pub lambda: f64,
     /// Shear modulus \[Pa\].
     pub mu: f64,
+    /// `k = λ/μ`.
+    k: f64,
+    /// `μ/k`.
+    mu_over_k: f64,
+    /// Neo-Hookean: `(det C)^(−k/2)` (the energy) and `(det C)^(−k/2 − 1)` (the stress), less 1.
+    powers: [Power; 2],
 }
 
 impl Material {
     /// The law described by the configuration.
     pub fn from_config(m: &config::Material) -> Self {
         let (lambda, mu) = m.lame();
+        let k = lambda / mu;
         Self {
             model: m.model,
             plane: m.plane,
             lambda,
             mu,
+            k,
+            mu_over_k: mu / k,
+            powers: [Power::new(-0.5 * k), Power::new(-(0.5 * k + 1.0))],
         }
     }
 
@@ -144,13 +188,13 @@ impl Material {
     /// written without differences of numbers near 1: its terms are of the size of the strain,
     /// so the rounding error of `ψ` is `ε μ |tr E|`, not `ε μ` (for steel at a strain of 1e-7 the
     /// energy density is 1e-3 J/m³ and the textbook form has an absolute error of 1e-5).
+    #[inline]
     pub fn strain_energy(&self, e: &Sym) -> (f64, f64) {
         let (tr, x) = invariants(e);
         match self.model {
             MaterialModel::NeoHookean => {
-                let (lambda, mu) = (self.lambda, self.mu);
-                let k = lambda / mu;
-                let second = mu / k * pow1p_minus_1(x, -0.5 * k);
+                let mu = self.mu;
+                let second = self.mu_over_k * self.powers[0].minus_1(x);
                 (mu * tr + second, (mu * tr).abs() + second.abs())
             }
             MaterialModel::SaintVenantKirchhoff => {
@@ -169,13 +213,13 @@ impl Material {
     }
 
     /// [`Material::second_piola`] and, for the Neo-Hookean law, `(d, det C)` (`(0, 1)` otherwise).
+    #[inline]
     fn second_piola_parts(&self, e: &Sym) -> (Sym, f64, f64) {
         let (tr, x) = invariants(e);
         match self.model {
             MaterialModel::NeoHookean => {
-                let k = self.lambda / self.mu;
                 let mu = self.mu;
-                let d_minus_1 = pow1p_minus_1(x, -(0.5 * k + 1.0));
+                let d_minus_1 = self.powers[1].minus_1(x);
                 let d = 1.0 + d_minus_1;
                 // S₀₀ = μ(1 − d C₁₁) = μ(−(d − 1) − 2 d E₁₁), likewise S₁₁; S₀₁ = μ d C₀₁ = 2 μ d E₀₁
                 let s = [
@@ -235,7 +279,7 @@ impl Material {
         } else {
             match self.model {
                 MaterialModel::NeoHookean => {
-                    let p = 0.5 * self.lambda / self.mu;
+                    let p = 0.5 * self.k;
                     let w = 1.0 / det_c;
                     let x1 = 2.0 * (de[0] + de[1]) + 4.0 * (em[0] * de[1] + em[1] * de[0] - 2.0 * em[2] * de[2]);
                     let x2 = 4.0 * (de[0] * de[1] - de[2] * de[2]);

@@ -141,6 +141,9 @@ pub struct Simulation {
     rates: Option<Kinematics>,
     /// `M x` of the current positions (valid with `rates`).
     mx: Vec<f64>,
+    /// The elastic terms' start data of a state (one per body) with the displacement it was made
+    /// from ([`Simulation::elastic_starts`]).
+    starts: Option<(Vec<f64>, Vec<Vec<f64>>)>,
     /// For [`Simulation::acceleration_field`]: the mass matrix factorised, the hinge rows and
     /// `M⁻¹Cᵀ`, made on first use.
     mass_solver: Option<(Cholesky, [Vec<f64>; 2], Vec<f64>)>,

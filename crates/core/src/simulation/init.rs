@@ -54,6 +54,7 @@ impl Simulation {
             previous_alpha: None,
             rates: None,
             mx: Vec::new(),
+            starts: None,
             mass_solver: None,
             reduced: None,
             validity: Default::default(),

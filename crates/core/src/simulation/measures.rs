@@ -20,6 +20,9 @@ pub(super) struct Kinematics {
     pub(super) kinetic: f64,
     /// Angular momentum about the pivot \[kg m²/s\].
     pub(super) momentum: f64,
+    /// The largest nodal inertia force `|M a|` \[N\] (full model; NaN for a reduced body), for
+    /// [`Simulation::load_scale`].
+    pub(super) inertia_force: f64,
 }
 
 fn pairs(v: &[f64]) -> Vec<[f64; 2]> {
@@ -41,6 +44,7 @@ impl Simulation {
             alpha,
             kinetic,
             momentum,
+            ..
         } = self.kinematics();
         let energies = self.energies_with(kinetic);
         let m = &self.model;
@@ -74,6 +78,35 @@ impl Simulation {
     /// The [`StepContext`] of the current state by itself (its time, unwrapped θ and held inputs).
     pub fn context(&self) -> StepContext<'_> {
         StepContext::at(&self.state.u, self.state.t, self.theta, self.held_torque)
+    }
+
+    /// Makes the elastic terms' start data of the current state ([`Term::discrete_start`]: `F`,
+    /// `E` and `ψ(E)` at every quadrature point, one per body), unless it is made already: the
+    /// energy-momentum step starting here needs it, and the strain energy of the state is its sum
+    /// ([`crate::terms::Elastic::energy_of_start`]), so an output read between two steps costs no
+    /// pass over the elements of its own. The data is kept with the displacement it was made from
+    /// and is valid while the state's displacement is that one, bit for bit (whatever changed it:
+    /// a step, a roll-back, a restore, a new initial state).
+    pub(super) fn elastic_starts(&mut self) -> &[Vec<f64>] {
+        if self.current_starts().is_none() {
+            let cx = self.context();
+            let data = self
+                .model
+                .bodies
+                .iter()
+                .map(|b| b.elastic.discrete_start(&cx))
+                .collect();
+            self.starts = Some((self.state.u.clone(), data));
+        }
+        &self.starts.as_ref().expect("made above").1
+    }
+
+    /// The elastic terms' start data if it is that of the current state.
+    pub(super) fn current_starts(&self) -> Option<&[Vec<f64>]> {
+        let (u, data) = self.starts.as_ref()?;
+        let same =
+            u.len() == self.state.u.len() && u.iter().zip(&self.state.u).all(|(a, b)| a.to_bits() == b.to_bits());
+        same.then_some(data.as_slice())
     }
 
     /// Angular momentum about the pivot of the current state, `Σ_ab M_ab x_a × v_b` \[kg m²/s\].
@@ -156,11 +189,8 @@ impl Simulation {
     /// forces sit on the short hinge edge and are about a hundred times the nodal gravity forces;
     /// as a scale they would loosen the residual check for the whole body.)
     pub(super) fn load_scale(&mut self, t: f64) -> f64 {
-        self.kinematics();
+        let inertia = self.kinematics().inertia_force;
         let m = &self.model;
-        self.scratch.resize(self.state.a.len(), 0.0);
-        m.mass.apply(&self.state.a, &mut self.scratch);
-        let inertia = self.scratch.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         let gravity = m.largest_gravity_force();
         let torque = m.applied_torque(t, self.held_torque).abs();
         let mut driven = 0.0;
@@ -197,7 +227,10 @@ impl Simulation {
         let mut x = m.positions(&self.state.u);
         x[2 * m.bodies[0].nodes.end..].iter_mut().for_each(|c| *c = 0.0);
         self.mx.resize(x.len(), 0.0);
-        m.mass.apply(&x, &mut self.mx);
+        // M x, M v and M a (for the load scale of the next step) in one pass over the matrix
+        let (mut mv, mut ma) = (vec![0.0; x.len()], vec![0.0; x.len()]);
+        m.mass
+            .apply_each([&x, &self.state.v, &self.state.a], [&mut self.mx, &mut mv, &mut ma]);
         let mx = &self.mx;
         let cross = |w: &[f64]| -> f64 {
             (0..x.len() / 2)
@@ -223,14 +256,13 @@ impl Simulation {
         } else {
             cross(&self.state.a) / polar
         };
-        self.scratch.resize(x.len(), 0.0);
-        m.mass.apply(&self.state.v, &mut self.scratch);
-        let kinetic = 0.5 * self.state.v.iter().zip(&self.scratch).map(|(a, b)| a * b).sum::<f64>();
+        let kinetic = 0.5 * self.state.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
         let k = Kinematics {
             omega: momentum / polar,
             alpha,
             kinetic,
             momentum,
+            inertia_force: ma.iter().fold(0.0f64, |a, b| a.max(b.abs())),
         };
         self.rates = Some(k);
         k

@@ -261,6 +261,7 @@ impl Simulation {
             alpha,
             kinetic,
             momentum: body.momenta(r)[0],
+            inertia_force: f64::NAN,
         })
     }
 }

@@ -122,6 +122,8 @@ impl Simulation {
         let (t0, t_new) = (self.state.t, self.state.t + dt);
         let load_scale = self.load_scale(t_new);
         let kinetic = self.kinematics().kinetic;
+        self.elastic_starts();
+        let elastic_starts = &self.starts.as_ref().expect("made by elastic_starts").1;
         let m = &self.model;
         let u0 = &self.state.u;
         let cx = StepContext {
@@ -141,7 +143,16 @@ impl Simulation {
         };
         let mut physical: Vec<(&dyn Term, f64)> = m.body_terms(chi);
         physical.extend(m.loads().map(|t| (t, 1.0)));
-        let starts: Vec<Vec<f64>> = physical.iter().map(|(t, _)| t.discrete_start(&cx)).collect();
+        // the bodies' terms come first, each body's elastic term before its weight
+        // (`Model::body_terms`); the elastic ones start from the data made for this state
+        let starts: Vec<std::borrow::Cow<[f64]>> = physical
+            .iter()
+            .enumerate()
+            .map(|(k, (t, _))| match elastic_starts.get(k / 2) {
+                Some(data) if k % 2 == 0 => std::borrow::Cow::Borrowed(data.as_slice()),
+                _ => std::borrow::Cow::Owned(t.discrete_start(&cx)),
+            })
+            .collect();
         let discrete: Vec<DiscreteGradient> = physical
             .iter()
             .zip(&starts)
@@ -149,7 +160,7 @@ impl Simulation {
                 term,
                 start: StepStart {
                     u: u0,
-                    data,
+                    data: data.as_ref(),
                     dissipation: chi,
                 },
                 gradient_factor: 2.0,

@@ -282,6 +282,27 @@ impl Elastic {
     }
 }
 
+impl Elastic {
+    /// The strain energy of the state whose start data ([`Term::discrete_start`]) is `data`:
+    /// `Σ_e Σ_q w ψ(E)`, summed as [`Term::energy`] sums it, so the same number bit for bit
+    /// (`+∞` where an element is inverted).
+    pub fn energy_of_start(&self, data: &[f64]) -> f64 {
+        let nq = self.cache.points_per_element;
+        data.chunks_exact(nq * START)
+            .enumerate()
+            .map(|(e, chunk)| {
+                let mut s = 0.0;
+                for (q, c) in chunk.chunks_exact(START).enumerate() {
+                    let f = [c[0], c[1], c[2], c[3]];
+                    let psi = if det(&f) <= 0.0 { f64::INFINITY } else { c[7] };
+                    s += self.cache.weights[e * nq + q] * psi;
+                }
+                s
+            })
+            .sum()
+    }
+}
+
 impl Term for Elastic {
     fn name(&self) -> &'static str {
         "elastic"

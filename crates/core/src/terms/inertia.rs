@@ -102,15 +102,25 @@ impl MassMatrix {
 
     /// `y = M x` for an interleaved vector `x` (both components).
     pub fn apply(&self, x: &[f64], y: &mut [f64]) {
-        for (a, yy) in y.chunks_exact_mut(2).enumerate() {
-            let (mut sx, mut sy) = (0.0, 0.0);
+        self.apply_each([x], [y]);
+    }
+
+    /// `y_i = M x_i` for `N` interleaved vectors in one pass over the matrix (each product the
+    /// same numbers as [`MassMatrix::apply`]'s, bit for bit).
+    pub fn apply_each<const N: usize>(&self, x: [&[f64]; N], y: [&mut [f64]; N]) {
+        for a in 0..self.row_ptr.len() - 1 {
+            let (mut sx, mut sy) = ([0.0; N], [0.0; N]);
             for k in self.row_ptr[a]..self.row_ptr[a + 1] {
                 let (b, m) = (self.cols[k], self.node_values[k]);
-                sx += m * x[2 * b];
-                sy += m * x[2 * b + 1];
+                for i in 0..N {
+                    sx[i] += m * x[i][2 * b];
+                    sy[i] += m * x[i][2 * b + 1];
+                }
             }
-            yy[0] = sx;
-            yy[1] = sy;
+            for i in 0..N {
+                y[i][2 * a] = sx[i];
+                y[i][2 * a + 1] = sy[i];
+            }
         }
     }
 }
