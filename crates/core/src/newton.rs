@@ -48,6 +48,9 @@ pub struct Solver {
     /// [`Solver::deferred`] until its first factorisation.
     chol: Option<Cholesky>,
     rows: [Vec<f64>; 2],
+    /// The unknowns where either hinge row is not zero (the hinge edge's nodes), ascending: a
+    /// product with a row sums over these alone ([`Solver::row_dot`]).
+    row_support: Vec<usize>,
     g: Vec<f64>,
     k: Vec<f64>,
     rhs: Vec<f64>,
@@ -149,8 +152,10 @@ impl Solver {
     /// coordinates), whose set-up then does not pay for the fill-reducing ordering.
     pub fn deferred(pattern: &Pattern, hinge: &Hinge, fixed: Dirichlet, rotating: usize) -> Self {
         let n = pattern.n;
+        let rows = hinge.dense_rows(n);
         Self {
-            rows: hinge.dense_rows(n),
+            row_support: (0..n).filter(|&i| rows[0][i] != 0.0 || rows[1][i] != 0.0).collect(),
+            rows,
             g: vec![0.0; n],
             k: vec![0.0; pattern.nnz()],
             rhs: vec![0.0; 3 * n],

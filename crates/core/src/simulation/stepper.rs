@@ -113,6 +113,12 @@ impl Simulation {
                 self.state.t = clock.time();
                 self.theta = self.unwrap.next(self.proxy_angle());
                 self.last_iterations = its;
+                if self.model.scheme == crate::config::Scheme::EnergyMomentum && self.model.reduced.is_none() {
+                    // what the next step starts from, made here on the pool: the outputs read
+                    // between two steps (the strain energy, ω and α) then cost no pass of their own
+                    self.elastic_starts();
+                    self.kinematics();
+                }
                 Ok(its)
             }
             Err(e) => {
@@ -206,14 +212,13 @@ impl Simulation {
 
     /// Kinetic, strain and gravitational energy of the current state and the torque's work \[J\].
     pub fn energies(&mut self) -> Energies {
-        on_pool(|| {
-            let kinetic = self.kinematics().kinetic;
-            if self.model.scheme == crate::config::Scheme::EnergyMomentum && self.model.reduced.is_none() {
-                // the next step needs the start data anyway; the strain energy is its sum
-                self.elastic_starts();
-            }
-            self.energies_with(kinetic)
-        })
+        let kinetic = self.kinematics().kinetic;
+        if self.model.scheme == crate::config::Scheme::EnergyMomentum && self.model.reduced.is_none() {
+            // the next step needs the start data anyway; the strain energy is its sum (a step
+            // makes it at its end, so only a state set otherwise needs it made here)
+            on_pool(|| self.elastic_starts());
+        }
+        self.energies_with(kinetic)
     }
 
     /// The energies of the current state with its kinetic energy \[J\] already computed: the one

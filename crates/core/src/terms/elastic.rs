@@ -33,11 +33,15 @@ use rayon::prelude::*;
 use super::{StepContext, StepStart, Term};
 use crate::assembly::{element_dofs, Pattern};
 use crate::fe::FeCache;
-use crate::material::{det, first_piola, green_strain, Material, StressTangent, VecF};
+use crate::material::{det, first_piola, green_strain, Material, StressTangent, Sym, VecF};
 use crate::Mesh;
 
 /// Elements per parallel block.
 const BLOCK: usize = 1024;
+
+/// Points per element of the degree-4 rule the bodies use ([`crate::quadrature::TriangleRule::degree4`]),
+/// for which the kernels take an element's points side by side.
+const POINTS: usize = 6;
 
 /// Start-of-step values per quadrature point for the discrete gradient: `F₀` (4), `E₀` (3) and
 /// `ψ(E₀)` with its rounding scale (2, [`Material::strain_energy`]).
@@ -158,6 +162,9 @@ impl Elastic {
     /// an element is inverted at `u₁`.
     fn element_discrete(&self, e: usize, start: &[f64], u1: &[f64], chi: f64) -> (f64, [f64; 12]) {
         let nq = self.cache.points_per_element;
+        if nq == POINTS {
+            return self.element_discrete_points(e, start, u1, chi);
+        }
         let m = &self.material;
         let mut g = [0.0; 12];
         for q in 0..nq {
@@ -180,6 +187,61 @@ impl Elastic {
                 s[2] += m2 * de[2];
             }
             let fm = [0, 1, 2, 3].map(|i| 0.5 * (s0[i] + f1[i]));
+            let p = first_piola(&fm, &s);
+            for (n, gn) in grads.iter().enumerate() {
+                g[2 * n] += w * (p[0] * gn[0] + p[1] * gn[1]);
+                g[2 * n + 1] += w * (p[2] * gn[0] + p[3] * gn[1]);
+            }
+        }
+        (0.0, g)
+    }
+
+    /// `F` at the [`POINTS`] points of element `e` ([`deformation_gradient`] at each, the same
+    /// numbers), the element's displacements read once.
+    #[inline]
+    fn deformation_gradients(&self, e: usize, u: &[f64]) -> [VecF; POINTS] {
+        let nodes = &self.triangles[e];
+        let ue: [[f64; 2]; 6] = nodes.map(|n| [u[2 * n], u[2 * n + 1]]);
+        std::array::from_fn(|q| {
+            let grads = &self.cache.grads[e * POINTS + q];
+            let mut f = [1.0, 0.0, 0.0, 1.0];
+            for ([ux, uy], g) in ue.iter().zip(grads.iter()) {
+                f[0] += ux * g[0];
+                f[1] += ux * g[1];
+                f[2] += uy * g[0];
+                f[3] += uy * g[1];
+            }
+            f
+        })
+    }
+
+    /// [`Elastic::element_discrete`] for an element of [`POINTS`] points, the points side by side
+    /// through [`Material::discrete_stresses`]; the same numbers bit for bit.
+    fn element_discrete_points(&self, e: usize, start: &[f64], u1: &[f64], chi: f64) -> (f64, [f64; 12]) {
+        let m = &self.material;
+        let mut g = [0.0; 12];
+        let k0 = e * POINTS;
+        let f1 = self.deformation_gradients(e, u1);
+        if f1.iter().any(|f| det(f) <= 0.0) {
+            return (f64::INFINITY, g);
+        }
+        let s0 = |q: usize| &start[(k0 + q) * START..(k0 + q + 1) * START];
+        let e0: [Sym; POINTS] = std::array::from_fn(|q| [s0(q)[4], s0(q)[5], s0(q)[6]]);
+        let psi0: [(f64, f64); POINTS] = std::array::from_fn(|q| (s0(q)[7], s0(q)[8]));
+        let e1 = f1.map(|f| green_strain(&f));
+        let stresses = m.discrete_stresses(&e0, &psi0, &e1);
+        for q in 0..POINTS {
+            let grads = &self.cache.grads[k0 + q];
+            let w = self.cache.weights[k0 + q];
+            let mut s = stresses[q];
+            if chi > 0.0 {
+                let de = [e1[q][0] - e0[q][0], e1[q][1] - e0[q][1], e1[q][2] - e0[q][2]];
+                let (l, m2) = (0.5 * chi * m.lambda * (de[0] + de[1]), chi * m.mu);
+                s[0] += l + m2 * de[0];
+                s[1] += l + m2 * de[1];
+                s[2] += m2 * de[2];
+            }
+            let fm = [0, 1, 2, 3].map(|i| 0.5 * (s0(q)[i] + f1[q][i]));
             let p = first_piola(&fm, &s);
             for (n, gn) in grads.iter().enumerate() {
                 g[2 * n] += w * (p[0] * gn[0] + p[1] * gn[1]);
@@ -268,6 +330,18 @@ impl Elastic {
         let nq = self.cache.points_per_element;
         let mut out = vec![0.0; self.cache.weights.len() * START];
         out.par_chunks_mut(nq * START).enumerate().for_each(|(e, chunk)| {
+            if nq == POINTS {
+                // the element's points side by side (Material::strain_energies)
+                let f = self.deformation_gradients(e, u0);
+                let e0 = f.map(|f| green_strain(&f));
+                let psi = self.material.strain_energies(&e0);
+                for (q, c) in chunk.chunks_exact_mut(START).enumerate() {
+                    c[..4].copy_from_slice(&f[q]);
+                    c[4..7].copy_from_slice(&e0[q]);
+                    c[7..9].copy_from_slice(&[psi[q].0, psi[q].1]);
+                }
+                return;
+            }
             for q in 0..nq {
                 let f = self.deformation_gradient(e, q, u0);
                 let c = &mut chunk[q * START..(q + 1) * START];
