@@ -120,7 +120,6 @@ pub struct Simulation {
     impact_records: Vec<StepRecord>,
     /// The sub-step ends of the impact in progress, for the predictor of a chattering contact.
     impact_trail: impact::ImpactTrail,
-    scratch: Vec<f64>,
     /// The reduced body's coordinates and momenta (`model.kind = "reduced"`), from which
     /// [`Simulation::state`] is reconstructed after every step.
     reduced: Option<crate::reduced::ReducedState>,

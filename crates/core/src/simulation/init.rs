@@ -50,7 +50,6 @@ impl Simulation {
             cutbacks: 0,
             torque_work: 0.0,
             unwrap: Unwrap::default(),
-            scratch: Vec::new(),
             previous_alpha: None,
             rates: None,
             mx: Vec::new(),

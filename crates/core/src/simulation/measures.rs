@@ -2,7 +2,7 @@
 //! nodal fields of a frame, the consistent acceleration field, the rigid-body rates and energies
 //! ([`Kinematics`], cached until the state changes) and the load scale of a step's residual check.
 
-use super::{ContactRecord, FrameData, Simulation, StepRecord};
+use super::{ContactRecord, FrameData, Model, Simulation, State, StepRecord};
 use crate::config::Scheme;
 use crate::constraint::Hinge;
 use crate::linsolve::Cholesky;
@@ -99,6 +99,26 @@ impl Simulation {
             self.starts = Some((self.state.u.clone(), data));
         }
         &self.starts.as_ref().expect("made above").1
+    }
+
+    /// Makes what the next energy-momentum step of the full model starts from, and what the
+    /// outputs read between two steps: the elastic start data ([`Simulation::elastic_starts`]) and
+    /// the rigid-body measures ([`Simulation::kinematics`]), side by side on the pool (the one's
+    /// mass products beside the other's pass over the elements).
+    pub(super) fn prepare_next_step(&mut self) {
+        if self.current_starts().is_some() || self.rates.is_some() {
+            self.elastic_starts();
+            self.kinematics();
+            return;
+        }
+        let cx = self.context();
+        let (m, step, s) = (&self.model, self.step, &self.state);
+        let (starts, (k, mx)) = rayon::join(
+            || m.bodies.iter().map(|b| b.elastic.discrete_start(&cx)).collect(),
+            || full_kinematics(m, &cx, step, s),
+        );
+        self.starts = Some((self.state.u.clone(), starts));
+        (self.rates, self.mx) = (Some(k), mx);
     }
 
     /// The elastic terms' start data if it is that of the current state.
@@ -221,50 +241,53 @@ impl Simulation {
             self.rates = Some(k);
             return k;
         }
-        let m = &self.model;
-        // the pendulum's positions (zeros at the other bodies' nodes: the rigid-body measures are
-        // the pendulum's; the mass matrix couples no two bodies, so M x stays the pendulum's)
-        let mut x = m.positions(&self.state.u);
-        x[2 * m.bodies[0].nodes.end..].iter_mut().for_each(|c| *c = 0.0);
-        self.mx.resize(x.len(), 0.0);
-        // M x, M v and M a (for the load scale of the next step) in one pass over the matrix
-        let (mut mv, mut ma) = (vec![0.0; x.len()], vec![0.0; x.len()]);
-        m.mass
-            .apply_each([&x, &self.state.v, &self.state.a], [&mut self.mx, &mut mv, &mut ma]);
-        let mx = &self.mx;
-        let cross = |w: &[f64]| -> f64 {
-            (0..x.len() / 2)
-                .map(|b| mx[2 * b] * w[2 * b + 1] - mx[2 * b + 1] * w[2 * b])
-                .sum()
-        };
-        let polar: f64 = x.iter().zip(mx).map(|(a, b)| a * b).sum();
-        let momentum = cross(&self.state.v);
-        let alpha = if m.scheme == Scheme::EnergyMomentum && self.step > 0 {
-            // the consistent end-of-step value: the moment of the external loads at x (the strain
-            // energy's forces and the hinge force have none) over the polar moment of inertia
-            self.scratch.resize(x.len(), 0.0);
-            self.scratch.iter_mut().for_each(|g| *g = 0.0);
-            let cx = StepContext::at(&self.state.u, self.state.t, self.theta, self.held_torque);
-            m.bodies[0].gravity.add_gradient(&self.state.u, &cx, &mut self.scratch);
-            for term in m.loads() {
-                term.add_gradient(&self.state.u, &cx, &mut self.scratch);
-            }
-            let moment: f64 = (0..x.len() / 2)
-                .map(|a| x[2 * a + 1] * self.scratch[2 * a] - x[2 * a] * self.scratch[2 * a + 1])
-                .sum();
-            moment / polar
-        } else {
-            cross(&self.state.a) / polar
-        };
-        let kinetic = 0.5 * self.state.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
-        let k = Kinematics {
-            omega: momentum / polar,
-            alpha,
-            kinetic,
-            momentum,
-            inertia_force: ma.iter().fold(0.0f64, |a, b| a.max(b.abs())),
-        };
+        let (k, mx) = full_kinematics(&self.model, &self.context(), self.step, &self.state);
+        self.mx = mx;
         self.rates = Some(k);
         k
     }
+}
+
+/// The rigid-body measures of the full model's state `s` ([`Simulation::kinematics`]) at the
+/// context `cx` of that state, after `step` steps, and `M x`: a function of the state alone, so
+/// that a step can make it beside the next step's start data.
+pub(super) fn full_kinematics(m: &Model, cx: &StepContext, step: usize, s: &State) -> (Kinematics, Vec<f64>) {
+    // the pendulum's positions (zeros at the other bodies' nodes: the rigid-body measures are
+    // the pendulum's; the mass matrix couples no two bodies, so M x stays the pendulum's)
+    let mut x = m.positions(&s.u);
+    x[2 * m.bodies[0].nodes.end..].iter_mut().for_each(|c| *c = 0.0);
+    // M x, M v and M a (for the load scale of the next step) in one pass over the matrix
+    let (mut mx, mut mv, mut ma) = (vec![0.0; x.len()], vec![0.0; x.len()], vec![0.0; x.len()]);
+    m.mass.apply_each([&x, &s.v, &s.a], [&mut mx, &mut mv, &mut ma]);
+    let cross = |w: &[f64]| -> f64 {
+        (0..x.len() / 2)
+            .map(|b| mx[2 * b] * w[2 * b + 1] - mx[2 * b + 1] * w[2 * b])
+            .sum()
+    };
+    let polar: f64 = x.iter().zip(&mx).map(|(a, b)| a * b).sum();
+    let momentum = cross(&s.v);
+    let alpha = if m.scheme == Scheme::EnergyMomentum && step > 0 {
+        // the consistent end-of-step value: the moment of the external loads at x (the strain
+        // energy's forces and the hinge force have none) over the polar moment of inertia
+        let mut loads = vec![0.0; x.len()];
+        m.bodies[0].gravity.add_gradient(&s.u, cx, &mut loads);
+        for term in m.loads() {
+            term.add_gradient(&s.u, cx, &mut loads);
+        }
+        let moment: f64 = (0..x.len() / 2)
+            .map(|a| x[2 * a + 1] * loads[2 * a] - x[2 * a] * loads[2 * a + 1])
+            .sum();
+        moment / polar
+    } else {
+        cross(&s.a) / polar
+    };
+    let kinetic = 0.5 * s.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
+    let k = Kinematics {
+        omega: momentum / polar,
+        alpha,
+        kinetic,
+        momentum,
+        inertia_force: ma.iter().fold(0.0f64, |a, b| a.max(b.abs())),
+    };
+    (k, mx)
 }

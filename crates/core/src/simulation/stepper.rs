@@ -116,8 +116,7 @@ impl Simulation {
                 if self.model.scheme == crate::config::Scheme::EnergyMomentum && self.model.reduced.is_none() {
                     // what the next step starts from, made here on the pool: the outputs read
                     // between two steps (the strain energy, ω and α) then cost no pass of their own
-                    self.elastic_starts();
-                    self.kinematics();
+                    self.prepare_next_step();
                 }
                 Ok(its)
             }
@@ -213,7 +212,8 @@ impl Simulation {
     /// Kinetic, strain and gravitational energy of the current state and the torque's work \[J\].
     pub fn energies(&mut self) -> Energies {
         let kinetic = self.kinematics().kinetic;
-        if self.model.scheme == crate::config::Scheme::EnergyMomentum && self.model.reduced.is_none() {
+        let full = self.model.scheme == crate::config::Scheme::EnergyMomentum && self.model.reduced.is_none();
+        if full && self.current_starts().is_none() {
             // the next step needs the start data anyway; the strain energy is its sum (a step
             // makes it at its end, so only a state set otherwise needs it made here)
             on_pool(|| self.elastic_starts());

@@ -4,11 +4,16 @@
 //! degree-6 rule (exact for curved P2 elements) and stored in the values layout of the fixed
 //! pattern. The step sets the predictor `ũ` and the factor `c` ([`crate::newmark`]).
 
+use rayon::prelude::*;
+
 use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
 use crate::fe::for_each_point;
 use crate::quadrature::TriangleRule;
 use crate::Mesh;
+
+/// Nodes (rows) of the node-level mass matrix per parallel task of [`MassMatrix::apply_each`].
+const ROWS_PER_TASK: usize = 512;
 
 /// Consistent mass matrix (upper triangle in the pattern's layout).
 #[derive(Clone, Debug)]
@@ -102,13 +107,35 @@ impl MassMatrix {
 
     /// `y = M x` for an interleaved vector `x` (both components).
     pub fn apply(&self, x: &[f64], y: &mut [f64]) {
-        self.apply_each([x], [y]);
+        self.rows_each(0, [x], [y]);
     }
 
-    /// `y_i = M x_i` for `N` interleaved vectors in one pass over the matrix (each product the
-    /// same numbers as [`MassMatrix::apply`]'s, bit for bit).
+    /// `y_i = M x_i` for `N` interleaved vectors (several: for one, [`MassMatrix::apply`] on one
+    /// thread costs less than waking another) in one pass over the matrix, its rows in
+    /// parallel blocks of [`ROWS_PER_TASK`] nodes (each product the same numbers, bit for bit,
+    /// whatever the threads: a row's sum is one thread's, in the row's order).
     pub fn apply_each<const N: usize>(&self, x: [&[f64]; N], y: [&mut [f64]; N]) {
-        for a in 0..self.row_ptr.len() - 1 {
+        let nodes = self.row_ptr.len() - 1;
+        // the outputs cut into blocks of rows, block by block
+        let mut blocks: Vec<(usize, [&mut [f64]; N])> = Vec::new();
+        let mut rest = y.map(Some);
+        for first in (0..nodes).step_by(ROWS_PER_TASK) {
+            let len = 2 * ROWS_PER_TASK.min(nodes - first);
+            let mut block: [Option<&mut [f64]>; N] = std::array::from_fn(|_| None);
+            for (r, b) in rest.iter_mut().zip(block.iter_mut()) {
+                let (head, tail) = r.take().expect("cut once per block").split_at_mut(len);
+                (*b, *r) = (Some(head), Some(tail));
+            }
+            blocks.push((first, block.map(|b| b.expect("cut above"))));
+        }
+        blocks
+            .into_par_iter()
+            .for_each(|(first, ys)| self.rows_each(first, x, ys));
+    }
+
+    /// The rows from node `first` on of `M x_i` into `y_i` (as long as `y_i` is).
+    fn rows_each<const N: usize>(&self, first: usize, x: [&[f64]; N], y: [&mut [f64]; N]) {
+        for (row, a) in (first..first + y[0].len() / 2).enumerate() {
             let (mut sx, mut sy) = ([0.0; N], [0.0; N]);
             for k in self.row_ptr[a]..self.row_ptr[a + 1] {
                 let (b, m) = (self.cols[k], self.node_values[k]);
@@ -118,8 +145,8 @@ impl MassMatrix {
                 }
             }
             for i in 0..N {
-                y[i][2 * a] = sx[i];
-                y[i][2 * a + 1] = sy[i];
+                y[i][2 * row] = sx[i];
+                y[i][2 * row + 1] = sy[i];
             }
         }
     }
