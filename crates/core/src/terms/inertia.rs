@@ -112,7 +112,7 @@ impl MassMatrix {
 
     /// `y_i = M x_i` for `N` interleaved vectors (several: for one, [`MassMatrix::apply`] on one
     /// thread costs less than waking another) in one pass over the matrix, its rows in
-    /// parallel blocks of [`ROWS_PER_TASK`] nodes (each product the same numbers, bit for bit,
+    /// parallel blocks of 512 nodes (each product the same numbers, bit for bit,
     /// whatever the threads: a row's sum is one thread's, in the row's order).
     pub fn apply_each<const N: usize>(&self, x: [&[f64]; N], y: [&mut [f64]; N]) {
         let nodes = self.row_ptr.len() - 1;
