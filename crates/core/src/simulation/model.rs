@@ -91,6 +91,9 @@ pub struct Model {
     pub contact_nodes: Vec<usize>,
     /// [`Model::length_scale`], computed once (the steps ask for it).
     length: f64,
+    /// `[largest nodal gravity force, the pendulum's weight]` \[N\], computed once (every step
+    /// reads them).
+    gravity_scales: [f64; 2],
 }
 
 impl Model {
@@ -225,7 +228,16 @@ impl Model {
             reduced_wall: None,
             contact_nodes: Vec::new(),
             length: 0.0,
+            gravity_scales: [0.0; 2],
         };
+        model.gravity_scales = [
+            model
+                .bodies
+                .iter()
+                .flat_map(|b| b.gravity.load_gradient.iter())
+                .fold(0.0f64, |a, b| a.max(b.abs())),
+            model.bodies[0].gravity.load_gradient.iter().sum::<f64>(),
+        ];
         let pendulum = &model.mesh.nodes[model.bodies[0].nodes.clone()];
         model.length = pendulum.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
         if config.wall.is_present() {
@@ -282,10 +294,13 @@ impl Model {
 
     /// Largest nodal gravity force of any body \[N\].
     pub(super) fn largest_gravity_force(&self) -> f64 {
-        self.bodies
-            .iter()
-            .flat_map(|b| b.gravity.load_gradient.iter())
-            .fold(0.0f64, |a, b| a.max(b.abs()))
+        self.gravity_scales[0]
+    }
+
+    /// The pendulum's weight as the sum of its nodal gravity loads \[N\] (the energy balance's
+    /// scale).
+    pub(super) fn pendulum_weight(&self) -> f64 {
+        self.gravity_scales[1]
     }
 
     /// Nodal stresses of every body (each node belongs to one body).

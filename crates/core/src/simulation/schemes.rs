@@ -94,15 +94,20 @@ impl Simulation {
         let m = &self.model;
         let (u, v, a) = (&self.state.u, &self.state.v, &self.state.a);
         let pendulum = 0..m.bodies[0].nodes.end;
-        let dofs = 2 * pendulum.end;
         let before: Vec<f64> = (0..u.len()).map(|i| u[i] - h * v[i] + 0.5 * h * h * a[i]).collect();
         let turn = crate::newton::wrap_angle(m.projection.angle(u) - m.projection.angle(&before));
-        let mut seen = before.clone();
-        crate::post::turn_about_pivot(&m.mesh.nodes, &before, &mut seen, pendulum, turn);
+        // the positions seen before, turned (turn_about_pivot), node by node into the difference
+        let (s, c) = turn.sin_cos();
         let ratio = dt / h;
         let mut shaped = u.clone();
-        for i in 0..dofs {
-            shaped[i] += ratio * (u[i] - seen[i]);
+        for n in pendulum {
+            let p = m.mesh.nodes[n];
+            let x = [p[0] + before[2 * n], p[1] + before[2 * n + 1]];
+            let seen = [c * x[0] - s * x[1] - p[0], s * x[0] + c * x[1] - p[1]];
+            for k in 0..2 {
+                let i = 2 * n + k;
+                shaped[i] += ratio * (u[i] - seen[k]);
+            }
         }
         Some(shaped)
     }
@@ -171,7 +176,7 @@ impl Simulation {
         terms.extend(discrete.iter().map(|t| t as &dyn Term));
         // the doubled equation carries twice the hinge force
         let mut lambda = self.lambda.map(|l| 2.0 * l);
-        let weight = m.bodies[0].gravity.load_gradient.iter().sum::<f64>();
+        let weight = m.pendulum_weight();
         let scale = crate::energy_momentum::energy_scale(
             kinetic,
             weight * m.length_scale(),
@@ -180,16 +185,17 @@ impl Simulation {
         // never below the energy floor: a body that nothing moves (no gravity, no torque, at rest)
         // has a scale of 0, and its balance could only be met exactly
         let energy_bound = m.config.solver.energy_tolerance * scale.max(m.energy_floor());
+        let frame_angle = m.projection.angle(&u);
         let settings = NewtonSettings {
             tolerance: m.config.solver.tolerance,
             max_iterations: m.config.solver.max_iterations,
             residual_tolerance: RESIDUAL_TOLERANCE,
             load_scale: 2.0 * load_scale,
             length_scale: m.length_scale(),
-            frame_angle: m.projection.angle(&u),
+            frame_angle,
             matrix_key: EnergyMomentum::inertia_factor(dt) / (1.0 + chi),
             reuse: !fresh_tangent,
-            residual_turn: 0.5 * crate::newton::wrap_angle(m.projection.angle(&u) - m.projection.angle(u0)),
+            residual_turn: 0.5 * crate::newton::wrap_angle(frame_angle - m.projection.angle(u0)),
         };
         let report = self.solver.solve(
             &m.pattern,

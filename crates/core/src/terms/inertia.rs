@@ -205,9 +205,21 @@ impl Term for Inertia<'_> {
     }
 
     fn energy_gradient(&self, u: &[f64], _cx: &StepContext, g: &mut [f64]) -> f64 {
-        let (force, energy) = self.force_and_energy(u);
-        g.iter_mut().zip(&force).for_each(|(gi, f)| *gi += f);
-        energy
+        // force_and_energy with the force added to g as it is made (the same numbers)
+        let d: Vec<f64> = u.iter().zip(&self.predictor).map(|(a, b)| a - b).collect();
+        let mut md = vec![0.0; d.len()];
+        self.mass.apply(&d, &mut md);
+        let work = md
+            .iter()
+            .zip(&d)
+            .zip(g.iter_mut())
+            .map(|((m, d), gi)| {
+                let f = m * self.factor;
+                *gi += f;
+                f * d
+            })
+            .sum::<f64>();
+        0.5 * work
     }
 
     fn add_hessian(&self, _u: &[f64], _cx: &StepContext, _pattern: &Pattern, values: &mut [f64]) {
