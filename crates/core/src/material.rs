@@ -519,6 +519,12 @@ impl Material {
         (self.strain_energy(&e).0, self.first_piola_of(F, &e))
     }
 
+    /// `P = ∂ψ/∂F` \[Pa\] for an admissible `F` (`det F > 0`), as [`Material::stress`] gives it.
+    #[allow(non_snake_case)]
+    pub fn first_piola_stress(&self, F: &VecF) -> [f64; 4] {
+        self.first_piola_of(F, &green_strain(F))
+    }
+
     /// `P` for an admissible `F` with its strain `e`: `μ (F − J^(−k−1) cof F)` (Neo-Hookean),
     /// `F S(E)` (St. Venant–Kirchhoff).
     #[allow(non_snake_case)]

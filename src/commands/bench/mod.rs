@@ -47,6 +47,8 @@ fn temp_dir(tag: &str) -> Result<PathBuf, Error> {
 
 /// One default run into a scratch folder.
 pub fn time_default_run(cfg: &Config) -> Result<RunSummary, Error> {
+    // a whole run meshes, as a fresh process does
+    crate::mesh::forget_last();
     let dir = temp_dir("run")?;
     let opts = RunOptions {
         config: cfg.clone(),

@@ -23,7 +23,7 @@ mod measure;
 mod refine;
 pub mod size;
 
-pub use generate::{generate, generate_with_stats, max_size_warning, mesh_shape, MeshStats};
+pub use generate::{forget_last, generate, generate_with_stats, max_size_warning, mesh_shape, MeshStats};
 
 /// One edge of the boundary, oriented with the domain on its left.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -137,15 +137,21 @@ impl Elastic {
         out
     }
 
-    /// Energy and gradient of one element (no tangent).
-    fn element_gradient(&self, e: usize, u: &[f64]) -> (f64, [f64; 12]) {
+    /// Energy (with `with_energy`; otherwise 0, or `+∞` for an inverted element) and gradient of
+    /// one element (no tangent).
+    fn element_gradient(&self, e: usize, u: &[f64], with_energy: bool) -> (f64, [f64; 12]) {
         let nq = self.cache.points_per_element;
         let (mut energy, mut g) = (0.0, [0.0; 12]);
         for q in 0..nq {
             let grads = &self.cache.grads[e * nq + q];
             let w = self.cache.weights[e * nq + q];
             let f = deformation_gradient(&self.triangles[e], grads, u);
-            let (psi, p) = self.material.stress(&f);
+            let (psi, p) = match with_energy {
+                true => self.material.stress(&f),
+                // the same P without the energy's power function
+                false if det(&f) > 0.0 => (0.0, self.material.first_piola_stress(&f)),
+                false => (f64::INFINITY, [0.0; 4]),
+            };
             if !psi.is_finite() {
                 return (f64::INFINITY, g);
             }
@@ -274,8 +280,8 @@ impl Elastic {
     }
 
     /// Energy and gradient of the whole body, `g += ∂Π/∂u`.
-    fn run_gradient(&self, u: &[f64], g: &mut [f64]) -> f64 {
-        self.gather(1.0, g, |e| self.element_gradient(e, u))
+    fn run_gradient(&self, u: &[f64], g: &mut [f64], with_energy: bool) -> f64 {
+        self.gather(1.0, g, |e| self.element_gradient(e, u, with_energy))
     }
 
     /// Tangent of the whole body, and with `g` its energy and gradient (without `g` the returned
@@ -403,11 +409,11 @@ impl Term for Elastic {
     }
 
     fn add_gradient(&self, u: &[f64], _cx: &StepContext, g: &mut [f64]) {
-        self.run_gradient(u, g);
+        self.run_gradient(u, g, false);
     }
 
     fn energy_gradient(&self, u: &[f64], _cx: &StepContext, g: &mut [f64]) -> f64 {
-        self.run_gradient(u, g)
+        self.run_gradient(u, g, true)
     }
 
     fn add_hessian(&self, u: &[f64], _cx: &StepContext, pattern: &Pattern, values: &mut [f64]) {
