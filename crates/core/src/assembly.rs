@@ -42,6 +42,81 @@ pub fn element_dofs(nodes: &[usize; 6]) -> [usize; 12] {
 impl Pattern {
     /// Builds the pattern of `mesh` plus `extra` `(row, col)` entries (either order).
     pub fn new(mesh: &Mesh, extra: &[(usize, usize)]) -> Self {
+        if extra.is_empty() {
+            return Self::of_elements(mesh);
+        }
+        Self::with_extra(mesh, extra)
+    }
+
+    /// [`Pattern::new`] without extra entries, the same pattern and scatter maps made node by node:
+    /// the element couplings are those of the nodes, each node pair a 2×2 block, so column `2b`
+    /// holds the rows `2a, 2a + 1` of every node `a < b` coupled to `b` and then `2b`, and column
+    /// `2b + 1` those of every `a ≤ b`. The position of `(2a + i, 2b + j)` is then the column's
+    /// start plus twice the place of `a` among `b`'s nodes plus `i`: one search per node pair
+    /// instead of one per entry (a quarter of the work, and no per-entry lists to sort).
+    fn of_elements(mesh: &Mesh) -> Self {
+        let nodes = mesh.num_nodes();
+        let mut columns: Vec<Vec<usize>> = vec![Vec::new(); nodes];
+        for tri in &mesh.triangles {
+            for &b in tri {
+                columns[b].extend(tri.iter().copied().filter(|&a| a <= b));
+            }
+        }
+        let n = 2 * nodes;
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for (b, col) in columns.iter_mut().enumerate() {
+            col.sort_unstable();
+            col.dedup();
+            for j in 0..2 {
+                for &a in col.iter() {
+                    row_idx.push(2 * a);
+                    if a < b || j == 1 {
+                        row_idx.push(2 * a + 1);
+                    }
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        let mut scatter = Vec::with_capacity(mesh.triangles.len() * 144);
+        for tri in &mesh.triangles {
+            // the place of node a among node b's nodes, for a ≤ b
+            let place: [[usize; 6]; 6] = std::array::from_fn(|x| {
+                std::array::from_fn(|y| {
+                    let (a, b) = (tri[x], tri[y]);
+                    match a <= b {
+                        true => columns[b].binary_search(&a).expect("an element's nodes are coupled"),
+                        false => 0,
+                    }
+                })
+            });
+            for (x, &na) in tri.iter().enumerate() {
+                for i in 0..2 {
+                    for (y, &nb) in tri.iter().enumerate() {
+                        for j in 0..2 {
+                            let (r, c) = (2 * na + i, 2 * nb + j);
+                            scatter.push(if r <= c {
+                                (col_ptr[c] + 2 * place[x][y] + i) as u32
+                            } else {
+                                SKIP
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        Self {
+            n,
+            col_ptr,
+            row_idx,
+            scatter,
+        }
+    }
+
+    /// [`Pattern::new`] with extra entries: every entry's row listed in its column, sorted, and
+    /// each element entry's position searched.
+    fn with_extra(mesh: &Mesh, extra: &[(usize, usize)]) -> Self {
         let n = 2 * mesh.num_nodes();
         let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
         for tri in &mesh.triangles {
@@ -181,5 +256,27 @@ impl Dirichlet {
     /// Zeroes the fixed entries of a gradient or right-hand side.
     pub fn apply_vector(&self, g: &mut [f64]) {
         self.dofs.iter().for_each(|&d| g[d] = 0.0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The node-by-node pattern ([`Pattern::of_elements`]) is the entry-by-entry one
+    /// ([`Pattern::with_extra`] with nothing extra) exactly: the same columns, rows and scatter maps,
+    /// on the tutorial's mesh and on one refined twice.
+    #[test]
+    fn the_node_by_node_pattern_is_the_entry_by_entry_one() {
+        for refine in [1.0, 2.0] {
+            let mut cfg = crate::Config::default();
+            cfg.mesh.refine = refine;
+            let mesh = crate::mesh::generate_with_stats(&cfg).expect("mesh").0;
+            let (fast, general) = (Pattern::of_elements(&mesh), Pattern::with_extra(&mesh, &[]));
+            assert_eq!(fast.n, general.n);
+            assert_eq!(fast.col_ptr, general.col_ptr);
+            assert_eq!(fast.row_idx, general.row_idx);
+            assert_eq!(fast.scatter, general.scatter);
+        }
     }
 }

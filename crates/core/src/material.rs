@@ -160,8 +160,9 @@ pub struct Material {
     k: f64,
     /// `μ/k`.
     mu_over_k: f64,
-    /// Neo-Hookean: `(det C)^(−k/2)` (the energy) and `(det C)^(−k/2 − 1)` (the stress), less 1.
-    powers: [Power; 2],
+    /// Neo-Hookean: `(det C)^(−k/2)` (the energy), `(det C)^(−k/2 − 1)` (the second Piola–Kirchhoff
+    /// stress) and `J^(−k)` (the first Piola–Kirchhoff and Cauchy stresses), less 1.
+    powers: [Power; 3],
 }
 
 impl Material {
@@ -176,7 +177,7 @@ impl Material {
             mu,
             k,
             mu_over_k: mu / k,
-            powers: [Power::new(-0.5 * k), Power::new(-(0.5 * k + 1.0))],
+            powers: [Power::new(-0.5 * k), Power::new(-(0.5 * k + 1.0)), Power::new(-k)],
         }
     }
 
@@ -472,7 +473,7 @@ impl Material {
             MaterialModel::NeoHookean => {
                 let (lambda, mu) = (self.lambda, self.mu);
                 let k = lambda / mu;
-                let jk = 1.0 + pow1p_minus_1(J - 1.0, -k);
+                let jk = 1.0 + self.powers[2].minus_1(J - 1.0);
                 let jk1 = jk / J; // J^(−k−1)
                 let jk2 = jk1 / J; // J^(−k−2)
                 let c = cofactor(F);
@@ -533,7 +534,7 @@ impl Material {
             MaterialModel::NeoHookean => {
                 let J = det(F);
                 let mu = self.mu;
-                let jk1 = (1.0 + pow1p_minus_1(J - 1.0, -self.lambda / mu)) / J;
+                let jk1 = (1.0 + self.powers[2].minus_1(J - 1.0)) / J;
                 let c = cofactor(F);
                 [0, 1, 2, 3].map(|v| mu * (F[v] - jk1 * c[v]))
             }
@@ -555,7 +556,7 @@ impl Material {
                 // B₀₀ − 1 = h₀(2 + h₀) + F₀₁², h₀ = F₀₀ − 1 (likewise B₁₁): no difference of
                 // numbers near 1
                 let c = self.mu / J;
-                let jk_1 = pow1p_minus_1(J - 1.0, -self.lambda / self.mu);
+                let jk_1 = self.powers[2].minus_1(J - 1.0);
                 let (h0, h3) = (F[0] - 1.0, F[3] - 1.0);
                 [
                     c * (h0 * (2.0 + h0) + F[1] * F[1] - jk_1),
@@ -577,7 +578,7 @@ impl Material {
             Plane::Stress => 0.0,
             Plane::Strain => match self.model {
                 // 3-D energies with F₃₃ = 1: S₃₃ = μ(1 − J^(−k)) resp. λ tr E, and σzz = S₃₃ / J.
-                MaterialModel::NeoHookean => -self.mu * pow1p_minus_1(J - 1.0, -self.lambda / self.mu) / J,
+                MaterialModel::NeoHookean => -self.mu * self.powers[2].minus_1(J - 1.0) / J,
                 MaterialModel::SaintVenantKirchhoff => {
                     let tr_e = 0.5 * (F.iter().map(|x| x * x).sum::<f64>() - 2.0);
                     self.lambda * tr_e / J
