@@ -141,6 +141,9 @@ impl Elastic {
     /// one element (no tangent).
     fn element_gradient(&self, e: usize, u: &[f64], with_energy: bool) -> (f64, [f64; 12]) {
         let nq = self.cache.points_per_element;
+        if !with_energy && nq == POINTS {
+            return self.element_gradient_points(e, u);
+        }
         let (mut energy, mut g) = (0.0, [0.0; 12]);
         for q in 0..nq {
             let grads = &self.cache.grads[e * nq + q];
@@ -219,6 +222,36 @@ impl Elastic {
             }
             f
         })
+    }
+
+    /// [`Elastic::element_gradient`] without the energy for an element of [`POINTS`] points, the
+    /// points side by side through [`Material::first_piola_stresses`]; the same numbers bit for
+    /// bit (an inverted element, `+∞`, with the gradient of its points before the first inverted
+    /// one, as there).
+    fn element_gradient_points(&self, e: usize, u: &[f64]) -> (f64, [f64; 12]) {
+        let mut g = [0.0; 12];
+        let f = self.deformation_gradients(e, u);
+        let inverted = f.iter().position(|f| det(f) <= 0.0);
+        let p = match inverted {
+            None => self.material.first_piola_stresses(&f),
+            Some(_) => [[0.0; 4]; POINTS],
+        };
+        for q in 0..POINTS {
+            if inverted == Some(q) {
+                return (f64::INFINITY, g);
+            }
+            let p = match inverted {
+                None => p[q],
+                Some(_) => self.material.first_piola_stress(&f[q]),
+            };
+            let grads = &self.cache.grads[e * POINTS + q];
+            let w = self.cache.weights[e * POINTS + q];
+            for (n, gn) in grads.iter().enumerate() {
+                g[2 * n] += w * (p[0] * gn[0] + p[1] * gn[1]);
+                g[2 * n + 1] += w * (p[2] * gn[0] + p[3] * gn[1]);
+            }
+        }
+        (0.0, g)
     }
 
     /// [`Elastic::element_discrete`] for an element of [`POINTS`] points, the points side by side
