@@ -169,6 +169,8 @@ pub(crate) fn ritz(
     stiffness: impl Fn(&[f64], &mut [f64]),
 ) -> (Vec<Vec<f64>>, Vec<f64>) {
     let mut basis: Vec<Vec<f64>> = Vec::new();
+    // M b of every basis vector, made once (the same numbers as made for each use)
+    let mut mass_basis: Vec<Vec<f64>> = Vec::new();
     let mut mv = vec![0.0; ndof];
     for mut v in vectors {
         mass.apply(&v, &mut mv);
@@ -177,9 +179,8 @@ pub(crate) fn ritz(
             continue;
         }
         for _pass in 0..2 {
-            for b in &basis {
-                mass.apply(b, &mut mv);
-                let c = dot(&v, &mv);
+            for (b, mb) in basis.iter().zip(&mass_basis) {
+                let c = dot(&v, mb);
                 v.iter_mut().zip(b).for_each(|(x, y)| *x -= c * y);
             }
         }
@@ -187,7 +188,10 @@ pub(crate) fn ritz(
         let norm = dot(&v, &mv).sqrt();
         if norm > 1e-8 * norm0 {
             v.iter_mut().for_each(|x| *x /= norm);
+            let mut mb = vec![0.0; ndof];
+            mass.apply(&v, &mut mb);
             basis.push(v);
+            mass_basis.push(mb);
         }
     }
     let n = basis.len();
