@@ -119,6 +119,24 @@ impl Power {
         }
     }
 
+    /// [`Power::minus_1`] of `L` values, each `|x| < 10⁻³` (the series), side by side: the series'
+    /// six dependent steps are the cost of one value, and `L` independent chains overlap in the
+    /// processor. The same numbers bit for bit.
+    #[inline]
+    fn series_lanes<const L: usize>(&self, x: &[f64; L]) -> [f64; L] {
+        let c = &self.c;
+        let mut t = [0.0; L];
+        for i in 0..L {
+            t[i] = 1.0 + c[4] * x[i];
+        }
+        for c in [c[3], c[2], c[1], c[0]] {
+            for i in 0..L {
+                t[i] = 1.0 + c * x[i] * t[i];
+            }
+        }
+        std::array::from_fn(|i| self.a * x[i] * t[i])
+    }
+
     /// `(1 + x)^a − 1`.
     #[inline]
     pub fn minus_1(&self, x: f64) -> f64 {
@@ -217,19 +235,10 @@ impl Material {
                 x[i] = 2.0 * tr[i] + 4.0 * (e[i][0] * e[i][1] - e[i][2] * e[i][2]);
             }
             if x.iter().all(|x| x.abs() < 1e-3) {
-                let p = &self.powers[0];
-                let mut t = [0.0; L];
-                for i in 0..L {
-                    t[i] = 1.0 + p.c[4] * x[i];
-                }
-                for c in [p.c[3], p.c[2], p.c[1], p.c[0]] {
-                    for i in 0..L {
-                        t[i] = 1.0 + c * x[i] * t[i];
-                    }
-                }
+                let power = self.powers[0].series_lanes(&x);
                 let mut out = [(0.0, 0.0); L];
                 for i in 0..L {
-                    let second = self.mu_over_k * (p.a * x[i] * t[i]);
+                    let second = self.mu_over_k * power[i];
                     out[i] = (self.mu * tr[i] + second, (self.mu * tr[i]).abs() + second.abs());
                 }
                 return out;
@@ -357,21 +366,12 @@ impl Material {
         if !series {
             return one_by_one();
         }
-        // second_piola_parts at E_m, its power by the series (Power::minus_1)
-        let pw = &self.powers[1];
-        let mut t = [0.0; L];
-        for i in 0..L {
-            t[i] = 1.0 + pw.c[4] * x[i];
-        }
-        for c in [pw.c[3], pw.c[2], pw.c[1], pw.c[0]] {
-            for i in 0..L {
-                t[i] = 1.0 + c * x[i] * t[i];
-            }
-        }
+        // second_piola_parts at E_m, its power by the series
+        let power = self.powers[1].series_lanes(&x);
         let (mu, p) = (self.mu, 0.5 * self.k);
         let mut out = [[0.0; 3]; L];
         for i in 0..L {
-            let d_minus_1 = pw.a * x[i] * t[i];
+            let d_minus_1 = power[i];
             let d = 1.0 + d_minus_1;
             let (em, de) = (&em[i], &de[i]);
             let mut s = [
@@ -536,21 +536,12 @@ impl Material {
         if !x.iter().all(|x| x.abs() < 1e-3) {
             return one_by_one();
         }
-        let pw = &self.powers[2];
-        let mut t = [0.0; L];
-        for i in 0..L {
-            t[i] = 1.0 + pw.c[4] * x[i];
-        }
-        for c in [pw.c[3], pw.c[2], pw.c[1], pw.c[0]] {
-            for i in 0..L {
-                t[i] = 1.0 + c * x[i] * t[i];
-            }
-        }
+        let power = self.powers[2].series_lanes(&x);
         let mut out = [[0.0; 4]; L];
         for i in 0..L {
             // first_piola_of: μ (F − J^(−k−1) cof F)
             let J = det(&F[i]);
-            let jk1 = (1.0 + pw.a * x[i] * t[i]) / J;
+            let jk1 = (1.0 + power[i]) / J;
             let c = cofactor(&F[i]);
             out[i] = [0, 1, 2, 3].map(|v| self.mu * (F[i][v] - jk1 * c[v]));
         }
