@@ -40,11 +40,17 @@ pub fn turn_about_pivot(
 ) {
     let (s, c) = angle.sin_cos();
     for n in nodes {
-        let p = reference[n];
-        let x = [p[0] + u[2 * n], p[1] + u[2 * n + 1]];
-        out[2 * n] = c * x[0] - s * x[1] - p[0];
-        out[2 * n + 1] = s * x[0] + c * x[1] - p[1];
+        let [x, y] = turned(reference[n], [u[2 * n], u[2 * n + 1]], (s, c));
+        (out[2 * n], out[2 * n + 1]) = (x, y);
     }
+}
+
+/// The displacement of the point at `p` displaced by `u` and then turned about the pivot by the
+/// angle of `(sin, cos)`: one node of [`turn_about_pivot`].
+#[inline]
+pub fn turned(p: [f64; 2], u: [f64; 2], (s, c): (f64, f64)) -> [f64; 2] {
+    let x = [p[0] + u[0], p[1] + u[1]];
+    [c * x[0] - s * x[1] - p[0], s * x[0] + c * x[1] - p[1]]
 }
 
 /// The linear functionals of the proxy angle.

@@ -87,18 +87,11 @@ impl Simulation {
     /// pass over the elements of its own. The data is kept with the displacement it was made from
     /// and is valid while the state's displacement is that one, bit for bit (whatever changed it:
     /// a step, a roll-back, a restore, a new initial state).
-    pub(super) fn elastic_starts(&mut self) -> &[Vec<f64>] {
+    pub(super) fn elastic_starts(&mut self) {
         if self.current_starts().is_none() {
-            let cx = self.context();
-            let data = self
-                .model
-                .bodies
-                .iter()
-                .map(|b| b.elastic.discrete_start(&cx))
-                .collect();
+            let data = starts_of(&self.model, &self.context());
             self.starts = Some((self.state.u.clone(), data));
         }
-        &self.starts.as_ref().expect("made above").1
     }
 
     /// Makes what the next energy-momentum step of the full model starts from, and what the
@@ -113,10 +106,7 @@ impl Simulation {
         }
         let cx = self.context();
         let (m, step, s) = (&self.model, self.step, &self.state);
-        let (starts, (k, mx)) = rayon::join(
-            || m.bodies.iter().map(|b| b.elastic.discrete_start(&cx)).collect(),
-            || full_kinematics(m, &cx, step, s),
-        );
+        let (starts, (k, mx)) = rayon::join(|| starts_of(m, &cx), || full_kinematics(m, &cx, step, s));
         self.starts = Some((self.state.u.clone(), starts));
         (self.rates, self.mx) = (Some(k), mx);
     }
@@ -246,6 +236,11 @@ impl Simulation {
         self.rates = Some(k);
         k
     }
+}
+
+/// Every body's elastic start data at the state of `cx` ([`Term::discrete_start`]).
+fn starts_of(m: &Model, cx: &StepContext) -> Vec<Vec<f64>> {
+    m.bodies.iter().map(|b| b.elastic.discrete_start(cx)).collect()
 }
 
 /// The rigid-body measures of the full model's state `s` ([`Simulation::kinematics`]) at the

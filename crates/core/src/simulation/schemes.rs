@@ -96,14 +96,12 @@ impl Simulation {
         let pendulum = 0..m.bodies[0].nodes.end;
         let before: Vec<f64> = (0..u.len()).map(|i| u[i] - h * v[i] + 0.5 * h * h * a[i]).collect();
         let turn = crate::newton::wrap_angle(m.projection.angle(u) - m.projection.angle(&before));
-        // the positions seen before, turned (turn_about_pivot), node by node into the difference
-        let (s, c) = turn.sin_cos();
+        // the positions seen before, turned, node by node into the difference
+        let turn = turn.sin_cos();
         let ratio = dt / h;
         let mut shaped = u.clone();
         for n in pendulum {
-            let p = m.mesh.nodes[n];
-            let x = [p[0] + before[2 * n], p[1] + before[2 * n + 1]];
-            let seen = [c * x[0] - s * x[1] - p[0], s * x[0] + c * x[1] - p[1]];
+            let seen = crate::post::turned(m.mesh.nodes[n], [before[2 * n], before[2 * n + 1]], turn);
             for k in 0..2 {
                 let i = 2 * n + k;
                 shaped[i] += ratio * (u[i] - seen[k]);

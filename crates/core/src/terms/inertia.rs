@@ -180,14 +180,23 @@ pub struct Inertia<'m> {
 }
 
 impl Inertia<'_> {
-    /// The inertia force `c M (u − ũ)` and the energy `½ (u − ũ)·c M (u − ũ)`.
-    fn force_and_energy(&self, u: &[f64]) -> (Vec<f64>, f64) {
+    /// The inertia force `c M (u − ũ)`, handed entry by entry to `add(i, f_i)` as it is made,
+    /// and the energy `½ (u − ũ)·c M (u − ũ)`.
+    fn force_and_energy(&self, u: &[f64], mut add: impl FnMut(usize, f64)) -> f64 {
         let d: Vec<f64> = u.iter().zip(&self.predictor).map(|(a, b)| a - b).collect();
-        let mut force = vec![0.0; d.len()];
-        self.mass.apply(&d, &mut force);
-        force.iter_mut().for_each(|x| *x *= self.factor);
-        let energy = 0.5 * force.iter().zip(&d).map(|(a, b)| a * b).sum::<f64>();
-        (force, energy)
+        let mut md = vec![0.0; d.len()];
+        self.mass.apply(&d, &mut md);
+        let work = md
+            .iter()
+            .zip(&d)
+            .enumerate()
+            .map(|(i, (m, d))| {
+                let f = m * self.factor;
+                add(i, f);
+                f * d
+            })
+            .sum::<f64>();
+        0.5 * work
     }
 }
 
@@ -197,7 +206,7 @@ impl Term for Inertia<'_> {
     }
 
     fn energy(&self, u: &[f64], _cx: &StepContext) -> f64 {
-        self.force_and_energy(u).1
+        self.force_and_energy(u, |_, _| {})
     }
 
     fn add_gradient(&self, u: &[f64], cx: &StepContext, g: &mut [f64]) {
@@ -205,21 +214,7 @@ impl Term for Inertia<'_> {
     }
 
     fn energy_gradient(&self, u: &[f64], _cx: &StepContext, g: &mut [f64]) -> f64 {
-        // force_and_energy with the force added to g as it is made (the same numbers)
-        let d: Vec<f64> = u.iter().zip(&self.predictor).map(|(a, b)| a - b).collect();
-        let mut md = vec![0.0; d.len()];
-        self.mass.apply(&d, &mut md);
-        let work = md
-            .iter()
-            .zip(&d)
-            .zip(g.iter_mut())
-            .map(|((m, d), gi)| {
-                let f = m * self.factor;
-                *gi += f;
-                f * d
-            })
-            .sum::<f64>();
-        0.5 * work
+        self.force_and_energy(u, |i, f| g[i] += f)
     }
 
     fn add_hessian(&self, _u: &[f64], _cx: &StepContext, _pattern: &Pattern, values: &mut [f64]) {
@@ -244,8 +239,7 @@ impl Term for Inertia<'_> {
         g: &mut [f64],
     ) -> f64 {
         let mid: Vec<f64> = start.u.iter().zip(u1).map(|(a, b)| 0.5 * (a + b)).collect();
-        let (force, _) = self.force_and_energy(&mid);
-        g.iter_mut().zip(&force).for_each(|(gi, f)| *gi += factor * f);
+        self.force_and_energy(&mid, |i, f| g[i] += factor * f);
         self.energy(u1, cx)
     }
 }
