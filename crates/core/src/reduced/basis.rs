@@ -30,6 +30,8 @@
 //!
 //! `K` is the elastic tangent at `u = 0` \[N/m\], `M` the consistent mass \[kg\].
 
+use rayon::prelude::*;
+
 use super::{ArcPoint, ProxyModes, ReducedBody, StressModes};
 use crate::modal::{constrained_modes, constrained_static, rest_shift, stiffness_at_rest};
 use crate::simulation::{Model, HINGE_BOUNDARY};
@@ -166,7 +168,7 @@ pub(crate) fn ritz(
     vectors: impl Iterator<Item = Vec<f64>>,
     ndof: usize,
     mass: &crate::terms::inertia::MassMatrix,
-    stiffness: impl Fn(&[f64], &mut [f64]),
+    stiffness: impl Fn(&[f64], &mut [f64]) + Sync,
 ) -> (Vec<Vec<f64>>, Vec<f64>) {
     let mut basis: Vec<Vec<f64>> = Vec::new();
     // M b of every basis vector, made once (the same numbers as made for each use)
@@ -196,7 +198,7 @@ pub(crate) fn ritz(
     }
     let n = basis.len();
     let kb: Vec<Vec<f64>> = basis
-        .iter()
+        .par_iter()
         .map(|b| {
             let mut y = vec![0.0; ndof];
             stiffness(b, &mut y);
@@ -231,22 +233,19 @@ impl ReducedBody {
     /// `normal` (any basis of fixed-frame modes, each satisfying [`frame_rows`]) and the static
     /// correction modes of `settings`.
     pub fn build(model: &Model, normal: Vec<Vec<f64>>, settings: BasisSettings) -> Result<Self, Error> {
+        let rest = Rest::of(model)?;
+        let statics = rest.static_modes(model, settings)?;
+        Self::from_modes(model, &rest, normal, statics)
+    }
+
+    /// The body of the normal modes `normal` and the static modes `statics`, both satisfying the
+    /// frame rows, on the stiffness at rest.
+    fn from_modes(model: &Model, rest: &Rest, normal: Vec<Vec<f64>>, statics: Vec<Vec<f64>>) -> Result<Self, Error> {
         let ndof = 2 * model.bodies[0].nodes.end;
-        if model.pattern.n != ndof {
-            return Err(Error::Config(format!(
-                "the reduced body is built from a model of the pendulum alone ({ndof} unknowns), not one of {} \
-                 (a deformable wall is reduced beside it, crate::reduced::wall)",
-                model.pattern.n
-            )));
-        }
         let pattern = &model.pattern;
-        let stiffness = stiffness_at_rest(model);
-        let rows = frame_rows(model)?;
-        let loads = correction_fields(model, ndof, settings.contact)?;
-        let statics = constrained_static(pattern, &stiffness, &rows, &loads)?;
         // the normal modes first, then what each static mode adds
         let (shapes, stiffness) = ritz(normal.into_iter().chain(statics), ndof, &model.mass, |b, y| {
-            pattern.sym_matvec(&stiffness, b, y)
+            pattern.sym_matvec(&rest.stiffness, b, y)
         });
         Self::from_shapes(model, shapes, stiffness)
     }
@@ -311,11 +310,12 @@ impl ReducedBody {
             cos: shapes.iter().map(|p| dot(p, &proj.cos_weights[..ndof])).collect(),
             sin: shapes.iter().map(|p| dot(p, &proj.sin_weights[..ndof])).collect(),
         };
-        // each mode's small-strain stress: a central difference of the law at ±1 µm
+        // each mode's small-strain stress: a central difference of the law at ±1 µm, the modes
+        // on the pool's threads
         let (element_nodes, counts) = body.stress.element_nodes();
         let nen = element_nodes.len();
         let mut values = vec![0.0; nen * 4 * n];
-        for (k, phi) in shapes.iter().enumerate() {
+        values.par_chunks_mut(nen * 4).zip(&shapes).for_each(|(values, phi)| {
             let amp = phi.iter().fold(0.0f64, |a, b| a.max(b.abs())).max(1e-300);
             let delta = 1e-6 / amp;
             let plus: Vec<f64> = phi.iter().map(|v| delta * v).collect();
@@ -324,10 +324,10 @@ impl ReducedBody {
             let sm = body.stress.element_node_stresses(&body.material, &minus);
             for e in 0..nen {
                 for c in 0..4 {
-                    values[k * nen * 4 + e * 4 + c] = (sp[e][c] - sm[e][c]) / (2.0 * delta);
+                    values[e * 4 + c] = (sp[e][c] - sm[e][c]) / (2.0 * delta);
                 }
             }
-        }
+        });
         let stress = StressModes {
             values,
             nodes: element_nodes,
@@ -356,20 +356,62 @@ impl ReducedBody {
     }
 }
 
+/// The stiffness at rest and the frame rows, made once for both kinds of modes.
+struct Rest {
+    stiffness: Vec<f64>,
+    rows: Vec<Vec<f64>>,
+}
+
+impl Rest {
+    /// The pendulum of `model` at rest; a model with more than the pendulum is refused.
+    fn of(model: &Model) -> Result<Self, Error> {
+        let ndof = 2 * model.bodies[0].nodes.end;
+        if model.pattern.n != ndof {
+            return Err(Error::Config(format!(
+                "the reduced body is built from a model of the pendulum alone ({ndof} unknowns), not one of {} \
+                 (a deformable wall is reduced beside it, crate::reduced::wall)",
+                model.pattern.n
+            )));
+        }
+        Ok(Self {
+            stiffness: stiffness_at_rest(model),
+            rows: frame_rows(model)?,
+        })
+    }
+
+    /// The lowest `n` fixed-frame normal modes of the pendulum (see the module doc).
+    fn normal_modes(&self, model: &Model, n: usize) -> Result<Vec<Vec<f64>>, Error> {
+        let modes = constrained_modes(
+            &model.pattern,
+            &self.stiffness,
+            &model.mass,
+            &self.rows,
+            n,
+            rest_shift(model),
+        )?;
+        Ok(modes.shapes)
+    }
+
+    /// The static correction modes of `settings` (see the module doc).
+    fn static_modes(&self, model: &Model, settings: BasisSettings) -> Result<Vec<Vec<f64>>, Error> {
+        let loads = correction_fields(model, model.pattern.n, settings.contact)?;
+        constrained_static(&model.pattern, &self.stiffness, &self.rows, &loads)
+    }
+}
+
 /// The reduced body of `model` with the modes of its `[model]` section.
+///
+/// The normal and the static modes each factorise a matrix of their own and do not depend on
+/// each other: they are computed side by side, on two threads.
 pub fn for_model(model: &Model) -> Result<ReducedBody, Error> {
     let settings = BasisSettings {
         normal: model.config.model.modes,
         contact: model.config.model.contact_modes,
     };
-    let normal = normal_modes(model, settings.normal)?;
-    ReducedBody::build(model, normal, settings)
-}
-
-/// The lowest `n` fixed-frame normal modes of the pendulum (see the module doc).
-fn normal_modes(model: &Model, n: usize) -> Result<Vec<Vec<f64>>, Error> {
-    let stiffness = stiffness_at_rest(model);
-    let rows = frame_rows(model)?;
-    let modes = constrained_modes(&model.pattern, &stiffness, &model.mass, &rows, n, rest_shift(model))?;
-    Ok(modes.shapes)
+    let rest = Rest::of(model)?;
+    let (normal, statics) = rayon::join(
+        || rest.normal_modes(model, settings.normal),
+        || rest.static_modes(model, settings),
+    );
+    ReducedBody::from_modes(model, &rest, normal?, statics?)
 }
