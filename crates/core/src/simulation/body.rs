@@ -112,11 +112,19 @@ impl Body {
             fixed,
         } = makeup;
         let law = Material::from_config(material);
-        let cache = FeCache::new(&view, &TriangleRule::degree4(), thickness)?;
-        let mut elastic = Elastic::new(law, &view, cache);
+        // the element data of the strain energy on one thread, the rest on another
+        let (cache, (gravity, stress)) = rayon::join(
+            || FeCache::new(&view, &TriangleRule::degree4(), thickness),
+            || {
+                (
+                    Gravity::new(&view, material.density, thickness, g),
+                    StressRecovery::new(&view),
+                )
+            },
+        );
+        let mut elastic = Elastic::new(law, &view, cache?);
         elastic.first_element = first_element;
-        let gravity = Gravity::new(&view, material.density, thickness, g);
-        let stress = StressRecovery::new(&view)?;
+        let stress = stress?;
         let mut fixed_dofs = Vec::new();
         for boundary in fixed {
             let on = view.nodes_on(boundary);
@@ -149,11 +157,24 @@ impl Body {
     }
 }
 
-/// The model's mesh of the pendulum `first` and the `others` appended, and the bodies on it.
-pub(super) fn build(config: &Config, first: Mesh, others: &[BodySpec]) -> Result<(Mesh, Vec<Body>), Error> {
-    let g = config.gravity.g;
+/// One body's part of the model's mesh (see [`parts`]).
+pub(super) struct Part {
+    name: String,
+    /// Its nodes and elements in the model's numbering.
+    pub nodes: Range<usize>,
+    pub elements: Range<usize>,
+    /// Its view of the model's mesh (see [`Body::mesh`]).
+    pub view: Mesh,
+    /// Mass density \[kg/m³\] and thickness \[m\].
+    pub density: f64,
+    pub thickness: f64,
+}
+
+/// The model's mesh of the pendulum `first` and the `others` appended, and each body's part of it
+/// (the pendulum's first).
+pub(super) fn parts(config: &Config, first: Mesh, others: &[BodySpec]) -> (Mesh, Vec<Part>) {
     let mut model_mesh = first;
-    let mut parts = vec![(
+    let mut ranges = vec![(
         model_mesh.region_name.clone(),
         0..model_mesh.num_nodes(),
         0..model_mesh.triangles.len(),
@@ -161,33 +182,57 @@ pub(super) fn build(config: &Config, first: Mesh, others: &[BodySpec]) -> Result
     )];
     for spec in others {
         let (nodes, elements, edges) = append(&mut model_mesh, &spec.mesh);
-        parts.push((spec.name.clone(), nodes, elements, edges));
+        ranges.push((spec.name.clone(), nodes, elements, edges));
     }
-    let mut bodies = Vec::with_capacity(parts.len());
-    for (k, (name, nodes, elements, edges)) in parts.into_iter().enumerate() {
-        let view = view_of(&model_mesh, &name, elements.clone(), edges);
-        let body = if k == 0 {
-            let makeup = Makeup {
-                material: &config.material,
-                thickness: config.geometry.thickness,
-                g,
-                fixed: &[],
+    let parts = ranges
+        .into_iter()
+        .enumerate()
+        .map(|(k, (name, nodes, elements, edges))| {
+            let (density, thickness) = match k {
+                0 => (config.material.density, config.geometry.thickness),
+                _ => (others[k - 1].material.density, others[k - 1].thickness),
             };
-            Body::new(&name, view, nodes, 0, makeup)?
-        } else {
-            let spec = &others[k - 1];
-            let g = if spec.gravity { g } else { 0.0 };
-            let makeup = Makeup {
-                material: &spec.material,
-                thickness: spec.thickness,
-                g,
-                fixed: &spec.fixed,
+            Part {
+                view: view_of(&model_mesh, &name, elements.clone(), edges),
+                name,
+                nodes,
+                elements,
+                density,
+                thickness,
+            }
+        })
+        .collect();
+    (model_mesh, parts)
+}
+
+/// The bodies on the `parts` of [`parts`] (the pendulum's first, then the `others`').
+pub(super) fn bodies(config: &Config, parts: &[Part], others: &[BodySpec]) -> Result<Vec<Body>, Error> {
+    let g = config.gravity.g;
+    parts
+        .iter()
+        .enumerate()
+        .map(|(k, part)| {
+            let makeup = match k {
+                0 => Makeup {
+                    material: &config.material,
+                    thickness: config.geometry.thickness,
+                    g,
+                    fixed: &[],
+                },
+                _ => {
+                    let spec = &others[k - 1];
+                    Makeup {
+                        material: &spec.material,
+                        thickness: spec.thickness,
+                        g: if spec.gravity { g } else { 0.0 },
+                        fixed: &spec.fixed,
+                    }
+                }
             };
-            Body::new(&name, view, nodes, elements.start, makeup)?
-        };
-        bodies.push(body);
-    }
-    Ok((model_mesh, bodies))
+            let first_element = if k == 0 { 0 } else { part.elements.start };
+            Body::new(&part.name, part.view.clone(), part.nodes.clone(), first_element, makeup)
+        })
+        .collect()
 }
 
 /// Appends `other` to `mesh` (its nodes after `mesh`'s, its elements after `mesh`'s, its boundary

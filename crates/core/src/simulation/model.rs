@@ -138,11 +138,12 @@ impl Model {
                 },
             );
         }
-        let (mesh, bodies) = body::build(config, pendulum_mesh, &others)?;
-        let hinge = Hinge::new(&bodies[0].mesh, HINGE_BOUNDARY)?;
+        let (mesh, parts) = body::parts(config, pendulum_mesh, &others);
+        let pendulum_view = &parts[0].view;
+        let hinge = Hinge::new(pendulum_view, HINGE_BOUNDARY)?;
         let mut torque = None;
         if config.torque.profile != ProfileKind::None {
-            let t = Torque::from_config(&bodies[0].mesh, HINGE_BOUNDARY, &config.torque)?;
+            let t = Torque::from_config(pendulum_view, HINGE_BOUNDARY, &config.torque)?;
             t.check_hub_stress(config.geometry.thickness, config.material.youngs_modulus)?;
             torque = Some(t);
         }
@@ -150,7 +151,7 @@ impl Model {
             WallKind::None => None,
             WallKind::Rigid => {
                 let mut wall = WallContact::new(
-                    &bodies[0].mesh,
+                    pendulum_view,
                     CONTACT_BOUNDARY,
                     config.wall.x,
                     config.contact.stiffness,
@@ -188,18 +189,31 @@ impl Model {
             .map(|t| t as &dyn Term)
             .chain(wall.iter().map(|t| t as &dyn Term));
         let entries: Vec<(usize, usize)> = loads.flat_map(|t| t.hessian_entries()).collect();
-        let pattern = Pattern::new(&mesh, &entries);
-        let parts: Vec<BodyMass> = bodies
+        let masses: Vec<BodyMass> = parts
             .iter()
-            .map(|b| BodyMass {
-                mesh: &b.mesh,
-                first_element: b.first_element,
-                density: b.density,
-                thickness: b.thickness,
+            .map(|p| BodyMass {
+                mesh: &p.view,
+                first_element: p.elements.start,
+                density: p.density,
+                thickness: p.thickness,
             })
             .collect();
-        let mass = MassMatrix::of_bodies(&pattern, &parts);
-        let projection = RigidProjection::new(&bodies[0].mesh);
+        // the bodies' terms beside the pattern, the mass matrix and the projection: independent
+        // data, made on two threads
+        let (bodies, ((pattern, mass), projection)) = rayon::join(
+            || body::bodies(config, &parts, &others),
+            || {
+                rayon::join(
+                    || {
+                        let pattern = Pattern::new(&mesh, &entries);
+                        let mass = MassMatrix::of_bodies(&pattern, &masses);
+                        (pattern, mass)
+                    },
+                    || RigidProjection::new(pendulum_view),
+                )
+            },
+        );
+        let bodies = bodies?;
         let fixed = Dirichlet::new(
             &pattern,
             bodies.iter().flat_map(|b| b.fixed_dofs.iter().copied()).collect(),
