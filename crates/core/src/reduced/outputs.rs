@@ -11,6 +11,8 @@
 //!   Mises does not depend on the frame's rotation. A linear stress: small strains, as the modes.
 //! * the wall's smallest gap and normal force at the arc's quadrature points.
 
+use rayon::prelude::*;
+
 use super::{rotate, ReducedBody, ReducedState};
 use crate::material::von_mises;
 use crate::post::NodalStress;
@@ -74,6 +76,12 @@ impl PartialEq for StressModes {
 }
 
 impl StressModes {
+    /// Makes the index of [`ReducedBody::von_mises_max`] now rather than at its first call (a
+    /// set-up does it beside its other work).
+    pub fn prepare(&self) {
+        self.node_bounds();
+    }
+
     /// The element nodes per mesh node and the modes' nodal bounds (see [`NodeBounds`]).
     fn node_bounds(&self) -> &NodeBounds {
         self.index.get_or_init(|| {
@@ -94,9 +102,9 @@ impl StressModes {
             let len = 4 * self.nodes.len();
             let modes = self.values.len().checked_div(len).unwrap_or(0);
             let mut bounds = vec![0.0; modes * nn];
-            for k in 0..modes {
+            // mode by mode on the pool's threads
+            bounds.par_chunks_mut(nn.max(1)).enumerate().for_each(|(k, b)| {
                 let col = &self.values[k * len..(k + 1) * len];
-                let b = &mut bounds[k * nn..(k + 1) * nn];
                 for (en, &n) in self.nodes.iter().enumerate() {
                     let v = &col[4 * en..4 * en + 4];
                     b[n] += von_mises([v[0], v[1], v[2]], v[3]);
@@ -106,7 +114,7 @@ impl StressModes {
                         *bn /= c;
                     }
                 }
-            }
+            });
             NodeBounds {
                 starts,
                 members,

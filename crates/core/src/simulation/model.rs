@@ -198,10 +198,21 @@ impl Model {
                 thickness: p.thickness,
             })
             .collect();
-        // the bodies' terms beside the pattern, the mass matrix and the projection: independent
-        // data, made on two threads
-        let (bodies, ((pattern, mass), projection)) = rayon::join(
-            || body::bodies(config, &parts, &others),
+        // a reduced pendulum's body from the cache (memory or disk), if it has it
+        let reduced_key = (config.model.kind == ModelKind::Reduced && twin.is_none())
+            .then(|| crate::reduced::cache::key_of(config, fingerprint.mesh, torque.is_some()));
+        // the bodies' terms and the stored reduced body beside the pattern, the mass matrix and
+        // the projection: independent data, made on two threads
+        let ((bodies, stored), ((pattern, mass), projection)) = rayon::join(
+            || {
+                rayon::join(
+                    || body::bodies(config, &parts, &others),
+                    || {
+                        let stored = reduced_key.and_then(crate::reduced::cache::stored);
+                        stored.inspect(|body| body.stress.prepare())
+                    },
+                )
+            },
             || {
                 rayon::join(
                     || {
@@ -262,10 +273,16 @@ impl Model {
             let body = crate::reduced::cache::load_or_build(&twin, || crate::reduced::basis::for_model(&twin))?;
             let wall = ReducedWall::build(&model, &body, config.model.contact_modes)?;
             (model.reduced, model.reduced_wall) = (Some(body), Some(std::sync::Arc::new(wall)));
-        } else if config.model.kind == ModelKind::Reduced {
-            model.reduced = Some(crate::reduced::cache::load_or_build(&model, || {
-                crate::reduced::basis::for_model(&model)
-            })?);
+        } else if let Some(key) = reduced_key {
+            debug_assert_eq!(
+                key,
+                crate::reduced::cache::key(&model),
+                "the key before the model is the model's"
+            );
+            model.reduced = Some(match stored {
+                Some(body) => body,
+                None => crate::reduced::cache::build_and_keep(key, || crate::reduced::basis::for_model(&model))?,
+            });
         }
         Ok(model)
     }

@@ -51,7 +51,12 @@ impl Writer {
     }
     pub(crate) fn vec(&mut self, v: &[f64]) {
         self.usize(v.len());
-        v.iter().for_each(|&x| self.f64(x));
+        if cfg!(target_endian = "little") {
+            // the values' bits are already their little-endian bytes
+            self.0.extend_from_slice(bytemuck::cast_slice(v));
+        } else {
+            v.iter().for_each(|&x| self.f64(x));
+        }
     }
 }
 
