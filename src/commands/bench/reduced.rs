@@ -8,8 +8,14 @@
 //!   cache, as a first run), and with the set-up read from the disk cache (every later run, a
 //!   sweep's cases after the first, a second FMU instance).
 //!
-//! Each figure is the best of `repeats`.
+//! Each figure is the best of `repeats`. Then the same three jobs as a user runs them:
+//! `pendulum-fem run -q` in a process of its own, started from here and timed from the start to the
+//! exit (the process's start, its thread pool, the first touch of its memory and the files
+//! included), the disk cache empty for each computed set-up and filled for the runs that read it;
+//! the kinds alternate, and each figure is the median of `repeats`.
 
+use std::path::Path;
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use super::{temp_dir, time_default_run};
@@ -25,6 +31,64 @@ pub struct ReducedBench {
     /// The default job with outputs off: full, reduced with the set-up computed, reduced with the
     /// set-up read from the disk cache.
     pub job: [f64; 3],
+    /// The same jobs, each a process of its own (the medians).
+    pub process: [f64; 3],
+}
+
+/// `pendulum-fem run -q` of the configuration file `config` into `out`, with the disk cache in
+/// `cache`, in a process of its own: its wall time from start to exit \[s\].
+fn time_process(config: &Path, out: &Path, cache: &Path) -> Result<f64, Error> {
+    let exe = std::env::current_exe().map_err(|e| Error::Input(format!("the running program's path: {e}")))?;
+    let t = Instant::now();
+    let status = Command::new(&exe)
+        .args(["run", "-q", "--force", "--config"])
+        .arg(config)
+        .arg("--out")
+        .arg(out)
+        .env("PENDULUM_FEM_CACHE", cache)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .map_err(|e| Error::io(&exe, e))?;
+    let seconds = t.elapsed().as_secs_f64();
+    if !status.success() {
+        return Err(Error::Input(format!(
+            "{} run --config {} failed ({status}); run it by hand to see why",
+            exe.display(),
+            config.display()
+        )));
+    }
+    Ok(seconds)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// The three default jobs of the module doc, each in a process of its own, `repeats` times in turn.
+fn process_jobs(kinds: &[Config; 2], repeats: usize) -> Result<[f64; 3], Error> {
+    let dir = temp_dir("reduced-process")?;
+    let (empty, filled, out) = (dir.join("empty-cache"), dir.join("cache"), dir.join("out"));
+    let configs = [dir.join("full.toml"), dir.join("reduced.toml")];
+    for (c, path) in kinds.iter().zip(&configs) {
+        let text = pendulum_fem_run::files::portable_toml(c, "bench configuration")?;
+        std::fs::write(path, text).map_err(|e| Error::io(path, e))?;
+    }
+    let result = (|| {
+        // the cache the later runs read
+        time_process(&configs[1], &out, &filled)?;
+        let mut times: [Vec<f64>; 3] = Default::default();
+        for _ in 0..repeats.max(1) {
+            times[0].push(time_process(&configs[0], &out, &empty)?);
+            let _ = std::fs::remove_dir_all(&empty);
+            times[1].push(time_process(&configs[1], &out, &empty)?);
+            times[2].push(time_process(&configs[1], &out, &filled)?);
+        }
+        Ok(times.map(median))
+    })();
+    let _ = std::fs::remove_dir_all(&dir);
+    result
 }
 
 /// Steps of the bare stepper timed per repeat: full model, reduced body.
@@ -75,6 +139,7 @@ pub fn bench_reduced(cfg: &Config, repeats: usize) -> Result<ReducedBench, Error
         })
     })?;
     let _ = std::fs::remove_dir_all(&empty);
+    out.process = process_jobs(&kinds, repeats)?;
     println!(
         "reduced body against the full model ({} modes, best of {repeats}):",
         cfg.model.modes
@@ -93,6 +158,14 @@ pub fn bench_reduced(cfg: &Config, repeats: usize) -> Result<ReducedBench, Error
         out.job[0] / out.job[1],
         out.job[2],
         out.job[0] / out.job[2]
+    );
+    println!(
+        "  the same, each a process  full {:>9.3} s    reduced {:>7.3} s (set-up computed; ratio {:.1}), {:.3} s (set-up from the disk cache; ratio {:.1}); medians of {repeats}",
+        out.process[0],
+        out.process[1],
+        out.process[0] / out.process[1],
+        out.process[2],
+        out.process[0] / out.process[2]
     );
     Ok(out)
 }
