@@ -40,6 +40,8 @@
 //! the residuals of `K` itself, so `K` need only be positive definite on `ker C` (a pendulum whose
 //! rotation is held by an extra row), not on the whole space.
 
+use rayon::prelude::*;
+
 use crate::assembly::Pattern;
 use crate::terms::inertia::MassMatrix;
 use crate::terms::{StepContext, Term};
@@ -212,22 +214,33 @@ pub fn verify(
     modes: &Modes,
 ) -> [f64; 3] {
     let ndof = pattern.n;
-    let (mut kphi, mut mphi) = (vec![0.0; ndof], vec![0.0; ndof]);
     let mut worst = [0.0f64; 3];
     let c_norm = constraints.iter().map(|r| dot(r, r)).sum::<f64>().sqrt();
     let (k_norm, m_norm) = (norm_inf(pattern, stiffness), norm_inf(pattern, &mass.values));
+    // each pair on the pool's threads: its residual, its constraint violation and M φ
+    let per_pair: Vec<(f64, f64, Vec<f64>)> = modes
+        .eigenvalues
+        .par_iter()
+        .zip(&modes.shapes)
+        .map(|(&l, phi)| {
+            let (mut kphi, mut mphi) = (vec![0.0; ndof], vec![0.0; ndof]);
+            pattern.sym_matvec(stiffness, phi, &mut kphi);
+            mass.apply(phi, &mut mphi);
+            let r: Vec<f64> = kphi.iter().zip(&mphi).map(|(k, m)| k - l * m).collect();
+            let phi_norm = dot(phi, phi).sqrt();
+            let scale = (k_norm + l.abs() * m_norm) * phi_norm;
+            let violation = constraints
+                .iter()
+                .map(|row| dot(row, phi).abs() / (c_norm * phi_norm))
+                .fold(0.0, f64::max);
+            (constrained_residual(constraints, &r) / scale, violation, mphi)
+        })
+        .collect();
     let mut mass_shapes = Vec::with_capacity(modes.shapes.len());
-    for (&l, phi) in modes.eigenvalues.iter().zip(&modes.shapes) {
-        pattern.sym_matvec(stiffness, phi, &mut kphi);
-        mass.apply(phi, &mut mphi);
-        let r: Vec<f64> = kphi.iter().zip(&mphi).map(|(k, m)| k - l * m).collect();
-        let phi_norm = dot(phi, phi).sqrt();
-        let scale = (k_norm + l.abs() * m_norm) * phi_norm;
-        worst[0] = worst[0].max(constrained_residual(constraints, &r) / scale);
-        for row in constraints {
-            worst[2] = worst[2].max(dot(row, phi).abs() / (c_norm * phi_norm));
-        }
-        mass_shapes.push(mphi.clone());
+    for (residual, violation, mphi) in per_pair {
+        worst[0] = worst[0].max(residual);
+        worst[2] = worst[2].max(violation);
+        mass_shapes.push(mphi);
     }
     for (i, mi) in mass_shapes.iter().enumerate() {
         for (j, phi) in modes.shapes.iter().enumerate().take(i + 1) {

@@ -205,10 +205,12 @@ pub(crate) fn ritz(
             y
         })
         .collect();
+    // symmetric: each pair once (the sum of the two products is the same either way round)
     let mut kr = vec![0.0; n * n];
     for i in 0..n {
-        for j in 0..n {
-            kr[i * n + j] = 0.5 * (dot(&basis[i], &kb[j]) + dot(&basis[j], &kb[i]));
+        for j in i..n {
+            let k = 0.5 * (dot(&basis[i], &kb[j]) + dot(&basis[j], &kb[i]));
+            (kr[i * n + j], kr[j * n + i]) = (k, k);
         }
     }
     let (lambda, vecs) = jacobi_eigen(&mut kr, n);
@@ -268,7 +270,7 @@ impl ReducedBody {
         let d: Vec<f64> = shapes.iter().map(|p| dot(p, &mjx)).collect();
         let hub: Vec<f64> = shapes.iter().map(|p| dot(p, &hub)).collect();
         // G_ij = φ_iᵀ Jᵀ M φ_j = −(J φ_i)ᵀ M φ_j
-        let mphi: Vec<Vec<f64>> = shapes.iter().map(|p| apply(p)).collect();
+        let mphi: Vec<Vec<f64>> = shapes.par_iter().map(|p| apply(p)).collect();
         let mut g = vec![0.0; n * n];
         for i in 0..n {
             let jp: Vec<f64> = shapes[i].chunks_exact(2).flat_map(|c| [-c[1], c[0]]).collect();
