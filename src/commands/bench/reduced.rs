@@ -151,21 +151,18 @@ pub fn bench_reduced(cfg: &Config, repeats: usize) -> Result<ReducedBench, Error
         out.step[0] / out.step[1],
         1e-3 / out.step[1]
     );
-    println!(
-        "  default job, outputs off full {:>9.3} s    reduced {:>7.3} s (set-up computed; ratio {:.1}), {:.3} s (set-up from the disk cache; ratio {:.1})",
-        out.job[0],
-        out.job[1],
-        out.job[0] / out.job[1],
-        out.job[2],
-        out.job[0] / out.job[2]
-    );
-    println!(
-        "  the same, each a process  full {:>9.3} s    reduced {:>7.3} s (set-up computed; ratio {:.1}), {:.3} s (set-up from the disk cache; ratio {:.1}); medians of {repeats}",
-        out.process[0],
-        out.process[1],
-        out.process[0] / out.process[1],
-        out.process[2],
-        out.process[0] / out.process[2]
+    let jobs = |what: &str, [full, computed, cached]: [f64; 3], tail: &str| {
+        println!(
+            "  {what:<25}full {full:>9.3} s    reduced {computed:>7.3} s (set-up computed; ratio {:.1}), {cached:.3} s (set-up from the disk cache; ratio {:.1}){tail}",
+            full / computed,
+            full / cached
+        );
+    };
+    jobs("default job, outputs off", out.job, "");
+    jobs(
+        "the same, each a process",
+        out.process,
+        &format!("; medians of {repeats}"),
     );
     Ok(out)
 }
