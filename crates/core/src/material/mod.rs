@@ -67,7 +67,7 @@ pub fn green_strain(f: &VecF) -> Sym {
 
 /// `(tr E, det C − 1)` of a strain, `det C − 1 = 2 tr E + 4 det E` (`C = I + 2E`), without
 /// forming `C`.
-fn invariants(e: &Sym) -> (f64, f64) {
+pub(crate) fn invariants(e: &Sym) -> (f64, f64) {
     let tr = e[0] + e[1];
     (tr, 2.0 * tr + 4.0 * (e[0] * e[1] - e[2] * e[2]))
 }
@@ -238,14 +238,7 @@ impl Material {
             numerator
         } else {
             match self.model {
-                MaterialModel::NeoHookean => {
-                    let p = 0.5 * self.k;
-                    let w = 1.0 / det_c;
-                    let x1 = 2.0 * (de[0] + de[1]) + 4.0 * (em[0] * de[1] + em[1] * de[0] - 2.0 * em[2] * de[2]);
-                    let x2 = 4.0 * (de[0] * de[1] - de[2] * de[2]);
-                    let third = 0.5 * self.mu * (p + 1.0) * d * w * x1 * (6.0 * x2 - (p + 2.0) * w * x1 * x1);
-                    third / 24.0
-                }
+                MaterialModel::NeoHookean => self.taylor_term(&em, &de, d, 1.0 / det_c),
                 MaterialModel::SaintVenantKirchhoff => 0.0,
             }
         };
@@ -254,6 +247,18 @@ impl Material {
             s[i] += c * de[i];
         }
         s
+    }
+
+    /// The first term of the Neo-Hookean `N`'s Taylor series in [`Material::discrete_stress`],
+    /// `ψ'''(E_m)[D, D, D]/24`, at the mid-step strain `em` and the increment `de`, with `d` and
+    /// `w = 1/(1 + x_m)` of `em` (one formula for the point-by-point and the batched stress).
+    #[inline]
+    pub(crate) fn taylor_term(&self, em: &Sym, de: &Sym, d: f64, w: f64) -> f64 {
+        let p = 0.5 * self.k;
+        let x1 = 2.0 * (de[0] + de[1]) + 4.0 * (em[0] * de[1] + em[1] * de[0] - 2.0 * em[2] * de[2]);
+        let x2 = 4.0 * (de[0] * de[1] - de[2] * de[2]);
+        let third = 0.5 * self.mu * (p + 1.0) * d * w * x1 * (6.0 * x2 - (p + 2.0) * w * x1 * x1);
+        third / 24.0
     }
 
     /// `ψ(F)` for a real `F`, through [`Material::strain_energy`]; `+∞` for `J ≤ 0`.

@@ -8,7 +8,7 @@
 //! so the numbers are the same bit for bit; where a point leaves the series' range they fall back
 //! to the one-point functions.
 
-use super::{cofactor, det, sym_dot, Material, Sym, VecF, TAYLOR_LIMIT};
+use super::{cofactor, det, invariants, sym_dot, Material, Sym, VecF, TAYLOR_LIMIT};
 use crate::config::MaterialModel;
 
 /// `(1 + x)^a − 1` for a fixed exponent `a` ([`super::pow1p_minus_1`]) with the series' coefficients
@@ -82,8 +82,7 @@ impl Material {
         if self.model == MaterialModel::NeoHookean {
             let (mut tr, mut x) = ([0.0; L], [0.0; L]);
             for i in 0..L {
-                tr[i] = e[i][0] + e[i][1];
-                x[i] = 2.0 * tr[i] + 4.0 * (e[i][0] * e[i][1] - e[i][2] * e[i][2]);
+                (tr[i], x[i]) = invariants(&e[i]);
             }
             if x.iter().all(|x| x.abs() < 1e-3) {
                 let power = self.powers[0].series_lanes(&x);
@@ -117,8 +116,7 @@ impl Material {
                 0.5 * (e0[i][2] + e1[i][2]),
             ];
             de[i] = [e1[i][0] - e0[i][0], e1[i][1] - e0[i][1], e1[i][2] - e0[i][2]];
-            let tr = em[i][0] + em[i][1];
-            x[i] = 2.0 * tr + 4.0 * (em[i][0] * em[i][1] - em[i][2] * em[i][2]);
+            x[i] = invariants(&em[i]).1;
             norm2[i] = sym_dot(&de[i], &de[i]);
         }
         let series = (0..L).all(|i| x[i].abs() < 1e-3 && norm2[i] > 0.0 && norm2[i] < TAYLOR_LIMIT * TAYLOR_LIMIT);
@@ -127,7 +125,7 @@ impl Material {
         }
         // second_piola_parts at E_m, its power by the series
         let power = self.powers[1].series_lanes(&x);
-        let (mu, p) = (self.mu, 0.5 * self.k);
+        let mu = self.mu;
         let mut out = [[0.0; 3]; L];
         for i in 0..L {
             let d_minus_1 = power[i];
@@ -139,11 +137,7 @@ impl Material {
                 2.0 * mu * d * em[2],
             ];
             // the Taylor term of discrete_stress
-            let w = 1.0 / (1.0 + x[i]);
-            let x1 = 2.0 * (de[0] + de[1]) + 4.0 * (em[0] * de[1] + em[1] * de[0] - 2.0 * em[2] * de[2]);
-            let x2 = 4.0 * (de[0] * de[1] - de[2] * de[2]);
-            let third = 0.5 * self.mu * (p + 1.0) * d * w * x1 * (6.0 * x2 - (p + 2.0) * w * x1 * x1);
-            let c = (third / 24.0) / norm2[i];
+            let c = self.taylor_term(em, de, d, 1.0 / (1.0 + x[i])) / norm2[i];
             for j in 0..3 {
                 s[j] += c * de[j];
             }
