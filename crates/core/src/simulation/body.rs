@@ -188,10 +188,8 @@ pub(super) fn parts(config: &Config, first: Mesh, others: &[BodySpec]) -> (Mesh,
         .into_iter()
         .enumerate()
         .map(|(k, (name, nodes, elements, edges))| {
-            let (density, thickness) = match k {
-                0 => (config.material.density, config.geometry.thickness),
-                _ => (others[k - 1].material.density, others[k - 1].thickness),
-            };
+            let m = makeup(config, others, k);
+            let (density, thickness) = (m.material.density, m.thickness);
             Part {
                 view: view_of(&model_mesh, &name, elements.clone(), edges),
                 name,
@@ -205,32 +203,42 @@ pub(super) fn parts(config: &Config, first: Mesh, others: &[BodySpec]) -> (Mesh,
     (model_mesh, parts)
 }
 
+/// What body `k` is made of: the pendulum's (`k = 0`) from `config`, the others' from their specs.
+fn makeup<'a>(config: &'a Config, others: &'a [BodySpec], k: usize) -> Makeup<'a> {
+    let g = config.gravity.g;
+    match k {
+        0 => Makeup {
+            material: &config.material,
+            thickness: config.geometry.thickness,
+            g,
+            fixed: &[],
+        },
+        _ => {
+            let spec = &others[k - 1];
+            Makeup {
+                material: &spec.material,
+                thickness: spec.thickness,
+                g: if spec.gravity { g } else { 0.0 },
+                fixed: &spec.fixed,
+            }
+        }
+    }
+}
+
 /// The bodies on the `parts` of [`parts`] (the pendulum's first, then the `others`').
 pub(super) fn bodies(config: &Config, parts: &[Part], others: &[BodySpec]) -> Result<Vec<Body>, Error> {
-    let g = config.gravity.g;
     parts
         .iter()
         .enumerate()
         .map(|(k, part)| {
-            let makeup = match k {
-                0 => Makeup {
-                    material: &config.material,
-                    thickness: config.geometry.thickness,
-                    g,
-                    fixed: &[],
-                },
-                _ => {
-                    let spec = &others[k - 1];
-                    Makeup {
-                        material: &spec.material,
-                        thickness: spec.thickness,
-                        g: if spec.gravity { g } else { 0.0 },
-                        fixed: &spec.fixed,
-                    }
-                }
-            };
-            let first_element = if k == 0 { 0 } else { part.elements.start };
-            Body::new(&part.name, part.view.clone(), part.nodes.clone(), first_element, makeup)
+            let m = makeup(config, others, k);
+            Body::new(
+                &part.name,
+                part.view.clone(),
+                part.nodes.clone(),
+                part.elements.start,
+                m,
+            )
         })
         .collect()
 }
