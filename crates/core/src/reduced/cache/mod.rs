@@ -16,10 +16,10 @@
 //! **On disk** in `$PENDULUM_FEM_CACHE` if set (`off` turns the disk off), else
 //! `$XDG_CACHE_HOME/pendulum-fem` or `~/.cache/pendulum-fem`: one file `reduced-<key>.bin` per body,
 //! the body's values as IEEE bits behind a magic, the format version and the key, with a trailing
-//! checksum ([`format`]). A file that does not read back whole (damaged, truncated, another key) is rebuilt and
-//! replaced; a folder that cannot be written costs the set-up, nothing else. A file is written under
-//! a temporary name and renamed, so parallel cases never read half of one. The body read back is
-//! the one computed, bit for bit.
+//! checksum ([`format`]). A file that does not read back whole (damaged, truncated, another key)
+//! is rebuilt and replaced; a folder that cannot be written costs the set-up, nothing else. A file
+//! is written under a temporary name and renamed, so parallel cases never read half of one. The
+//! body read back is the one computed, bit for bit.
 
 use std::collections::HashMap;
 use std::path::PathBuf;
