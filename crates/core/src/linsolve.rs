@@ -24,6 +24,8 @@
 //! (the tutorial's factor has 162 thousand entries, 2.6 MB with 8-byte indices, more than a core's
 //! cache). The arithmetic and the ordering are the same, so are the results, bit for bit.
 
+use std::sync::Arc;
+
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LdltRef, LltRef, SymbolicCholesky, SymmetricOrdering,
@@ -37,10 +39,11 @@ use crate::Error;
 /// A Cholesky factorisation with a fixed symbolic structure (`L Lᵀ`, or `L D Lᵀ` for an
 /// indefinite matrix, see [`Cholesky::factor`]).
 pub struct Cholesky {
-    symbolic: SymbolicCholesky<u32>,
+    /// The symbolic analysis, shared with the [`Cholesky::sibling`]s.
+    symbolic: Arc<SymbolicCholesky<u32>>,
     /// The pattern's column pointers and row indices, 32-bit.
-    col_ptr: Vec<u32>,
-    row_idx: Vec<u32>,
+    col_ptr: Arc<[u32]>,
+    row_idx: Arc<[u32]>,
     l_values: Vec<f64>,
     mem: MemBuffer,
     par: Par,
@@ -59,7 +62,7 @@ const MAX_RHS: usize = 3;
 impl Cholesky {
     /// Symbolic analysis (ordering, elimination tree, supernodes) of `pattern`.
     pub fn new(pattern: &Pattern) -> Result<Self, Error> {
-        let narrow = |v: &[usize], what: &str| -> Result<Vec<u32>, Error> {
+        let narrow = |v: &[usize], what: &str| -> Result<Arc<[u32]>, Error> {
             v.iter()
                 .map(|&i| u32::try_from(i))
                 .collect::<Result<_, _>>()
@@ -77,6 +80,27 @@ impl Cholesky {
         .map_err(|e| Error::LinearSolver(format!("symbolic Cholesky analysis failed: {e:?}")))?;
         // Two threads pay off only for large supernodal factorisations.
         let par = if pattern.n > 40_000 { Par::rayon(0) } else { Par::Seq };
+        Self::with_analysis(Arc::new(symbolic), col_ptr, row_idx, par)
+    }
+
+    /// A factorisation of another matrix on the same pattern: this one's symbolic analysis (the
+    /// ordering and the structure of `L`, shared, not recomputed), its own numeric storage, nothing
+    /// factorised yet.
+    pub fn sibling(&self) -> Result<Self, Error> {
+        Self::with_analysis(
+            Arc::clone(&self.symbolic),
+            Arc::clone(&self.col_ptr),
+            Arc::clone(&self.row_idx),
+            self.par,
+        )
+    }
+
+    fn with_analysis(
+        symbolic: Arc<SymbolicCholesky<u32>>,
+        col_ptr: Arc<[u32]>,
+        row_idx: Arc<[u32]>,
+        par: Par,
+    ) -> Result<Self, Error> {
         let req = StackReq::any_of(&[
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
             symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),

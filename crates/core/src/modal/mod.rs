@@ -43,6 +43,7 @@
 use rayon::prelude::*;
 
 use crate::assembly::Pattern;
+use crate::linsolve::Cholesky;
 use crate::terms::inertia::MassMatrix;
 use crate::terms::{StepContext, Term};
 use crate::{Error, Model};
@@ -114,6 +115,21 @@ pub fn constrained_modes(
     n: usize,
     shift: f64,
 ) -> Result<Modes, Error> {
+    constrained_modes_on(Cholesky::new(pattern)?, pattern, stiffness, mass, constraints, n, shift)
+}
+
+/// [`constrained_modes`] with the factorisation `chol`, a [`Cholesky::new`] of `pattern` or a
+/// [`Cholesky::sibling`] of one: the symbolic analysis of a pattern made once serves several
+/// problems on it.
+pub fn constrained_modes_on(
+    chol: Cholesky,
+    pattern: &Pattern,
+    stiffness: &[f64],
+    mass: &MassMatrix,
+    constraints: &[Vec<f64>],
+    n: usize,
+    shift: f64,
+) -> Result<Modes, Error> {
     let ndof = pattern.n;
     if n == 0 {
         return Ok(Modes {
@@ -143,7 +159,7 @@ pub fn constrained_modes(
     }
     let a: Vec<f64> = stiffness.iter().zip(&mass.values).map(|(k, m)| k - shift * m).collect();
     let what = format!("K − σM with the shift σ = {shift:e} rad²/s²");
-    let mut solver = ConstrainedSolver::new(pattern, &a, constraints, &what).map_err(|e| match e {
+    let mut solver = ConstrainedSolver::new(chol, pattern, &a, constraints, &what).map_err(|e| match e {
         Error::Modal(m) if m.ends_with("not positive definite") => Error::Modal(format!(
             "{m}: the shift lies above the lowest eigenvalue; choose a shift below it (negative for a body free \
              to turn about its pivot)"
@@ -300,6 +316,17 @@ pub fn constrained_static(
     constraints: &[Vec<f64>],
     rhs: &[Vec<f64>],
 ) -> Result<Vec<Vec<f64>>, Error> {
+    constrained_static_on(Cholesky::new(pattern)?, pattern, stiffness, constraints, rhs)
+}
+
+/// [`constrained_static`] with the factorisation `chol` (see [`constrained_modes_on`]).
+pub fn constrained_static_on(
+    chol: Cholesky,
+    pattern: &Pattern,
+    stiffness: &[f64],
+    constraints: &[Vec<f64>],
+    rhs: &[Vec<f64>],
+) -> Result<Vec<Vec<f64>>, Error> {
     let ndof = pattern.n;
     if stiffness.len() != pattern.nnz() {
         return Err(Error::Modal(format!(
@@ -314,7 +341,7 @@ pub fn constrained_static(
             a[k] += STATIC_REGULARISATION * stiffness[k].abs();
         }
     }
-    let mut solver = ConstrainedSolver::new(pattern, &a, constraints, "K + ε diag K (static solve)")?;
+    let mut solver = ConstrainedSolver::new(chol, pattern, &a, constraints, "K + ε diag K (static solve)")?;
     let mut out = Vec::with_capacity(rhs.len());
     let mut kx = vec![0.0; ndof];
     for (i, f) in rhs.iter().enumerate() {

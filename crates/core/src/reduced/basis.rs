@@ -33,7 +33,9 @@
 use rayon::prelude::*;
 
 use super::{ArcPoint, ProxyModes, ReducedBody, StressModes};
-use crate::modal::{constrained_modes, constrained_static, rest_shift, stiffness_at_rest};
+use crate::linsolve::Cholesky;
+use crate::modal::constrained::dot;
+use crate::modal::{constrained_modes_on, constrained_static_on, rest_shift, stiffness_at_rest};
 use crate::simulation::{Model, HINGE_BOUNDARY};
 use crate::terms::torque::HubAngle;
 use crate::Error;
@@ -45,10 +47,6 @@ pub struct BasisSettings {
     pub normal: usize,
     /// Patches of unit normal traction on the head's arc (with a wall).
     pub contact: usize,
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// The three frame rows `C` over the pendulum's `ndof` degrees of freedom: the hinge's two and
@@ -171,7 +169,7 @@ pub(crate) fn ritz(
     stiffness: impl Fn(&[f64], &mut [f64]) + Sync,
 ) -> (Vec<Vec<f64>>, Vec<f64>) {
     let mut basis: Vec<Vec<f64>> = Vec::new();
-    // M b of every basis vector, made once (the same numbers as made for each use)
+    // M b of every basis vector
     let mut mass_basis: Vec<Vec<f64>> = Vec::new();
     let mut mv = vec![0.0; ndof];
     for mut v in vectors {
@@ -190,10 +188,8 @@ pub(crate) fn ritz(
         let norm = dot(&v, &mv).sqrt();
         if norm > 1e-8 * norm0 {
             v.iter_mut().for_each(|x| *x /= norm);
-            let mut mb = vec![0.0; ndof];
-            mass.apply(&v, &mut mb);
             basis.push(v);
-            mass_basis.push(mb);
+            mass_basis.push(mv.iter().map(|x| x / norm).collect());
         }
     }
     let n = basis.len();
@@ -235,8 +231,8 @@ impl ReducedBody {
     /// `normal` (any basis of fixed-frame modes, each satisfying [`frame_rows`]) and the static
     /// correction modes of `settings`.
     pub fn build(model: &Model, normal: Vec<Vec<f64>>, settings: BasisSettings) -> Result<Self, Error> {
-        let rest = Rest::of(model)?;
-        let statics = rest.static_modes(model, settings)?;
+        let rest = Rest::of(model, settings)?;
+        let statics = rest.static_modes(model)?;
         Self::from_modes(model, &rest, normal, statics)
     }
 
@@ -358,15 +354,20 @@ impl ReducedBody {
     }
 }
 
-/// The stiffness at rest and the frame rows, made once for both kinds of modes.
+/// What both kinds of modes start from, made once: the stiffness at rest, the frame rows, the
+/// static loads and the symbolic analysis of the pattern (each kind factorises a matrix of its
+/// own on it).
 struct Rest {
     stiffness: Vec<f64>,
     rows: Vec<Vec<f64>>,
+    loads: Vec<Vec<f64>>,
+    analysis: Cholesky,
 }
 
 impl Rest {
-    /// The pendulum of `model` at rest; a model with more than the pendulum is refused.
-    fn of(model: &Model) -> Result<Self, Error> {
+    /// The pendulum of `model` at rest with the loads of `settings`; a model with more than the
+    /// pendulum is refused. The ordering needs only the pattern: it is made beside the rest.
+    fn of(model: &Model, settings: BasisSettings) -> Result<Self, Error> {
         let ndof = 2 * model.bodies[0].nodes.end;
         if model.pattern.n != ndof {
             return Err(Error::Config(format!(
@@ -375,15 +376,29 @@ impl Rest {
                 model.pattern.n
             )));
         }
+        let (analysis, rest) = rayon::join(
+            || Cholesky::new(&model.pattern),
+            || -> Result<_, Error> {
+                Ok((
+                    stiffness_at_rest(model),
+                    frame_rows(model)?,
+                    correction_fields(model, ndof, settings.contact)?,
+                ))
+            },
+        );
+        let (stiffness, rows, loads) = rest?;
         Ok(Self {
-            stiffness: stiffness_at_rest(model),
-            rows: frame_rows(model)?,
+            stiffness,
+            rows,
+            loads,
+            analysis: analysis?,
         })
     }
 
     /// The lowest `n` fixed-frame normal modes of the pendulum (see the module doc).
     fn normal_modes(&self, model: &Model, n: usize) -> Result<Vec<Vec<f64>>, Error> {
-        let modes = constrained_modes(
+        let modes = constrained_modes_on(
+            self.analysis.sibling()?,
             &model.pattern,
             &self.stiffness,
             &model.mass,
@@ -394,10 +409,15 @@ impl Rest {
         Ok(modes.shapes)
     }
 
-    /// The static correction modes of `settings` (see the module doc).
-    fn static_modes(&self, model: &Model, settings: BasisSettings) -> Result<Vec<Vec<f64>>, Error> {
-        let loads = correction_fields(model, model.pattern.n, settings.contact)?;
-        constrained_static(&model.pattern, &self.stiffness, &self.rows, &loads)
+    /// The static correction modes (see the module doc).
+    fn static_modes(&self, model: &Model) -> Result<Vec<Vec<f64>>, Error> {
+        constrained_static_on(
+            self.analysis.sibling()?,
+            &model.pattern,
+            &self.stiffness,
+            &self.rows,
+            &self.loads,
+        )
     }
 }
 
@@ -410,10 +430,10 @@ pub fn for_model(model: &Model) -> Result<ReducedBody, Error> {
         normal: model.config.model.modes,
         contact: model.config.model.contact_modes,
     };
-    let rest = Rest::of(model)?;
+    let rest = Rest::of(model, settings)?;
     let (normal, statics) = rayon::join(
         || rest.normal_modes(model, settings.normal),
-        || rest.static_modes(model, settings),
+        || rest.static_modes(model),
     );
     ReducedBody::from_modes(model, &rest, normal?, statics?)
 }

@@ -58,6 +58,8 @@ pub use step::{Loads, StepReport};
 pub use validity::{Validity, WARNING_BOUND};
 pub use wall::ReducedWall;
 
+use crate::modal::constrained::dot;
+
 /// One quadrature point of the head's arc in modal form.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ArcPoint {
@@ -135,10 +137,6 @@ pub struct ReducedState {
 pub(crate) fn rotate(theta: f64, y: [f64; 2]) -> [f64; 2] {
     let (s, c) = theta.sin_cos();
     [c * y[0] - s * y[1], s * y[0] + c * y[1]]
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 impl ReducedBody {

@@ -15,12 +15,9 @@ use rayon::prelude::*;
 
 use super::{rotate, ReducedBody, ReducedState};
 use crate::material::von_mises;
+use crate::modal::constrained::dot;
 use crate::post::NodalStress;
 use crate::terms::WallContact;
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
 
 /// The modes' stresses at the element nodes and how they average at the nodes.
 #[derive(Clone, Debug, Default)]

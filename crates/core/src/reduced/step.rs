@@ -27,6 +27,7 @@
 
 use super::wall::{Placed, ReducedWall};
 use super::{rotate, ReducedBody, ReducedState};
+use crate::modal::constrained::dot;
 use crate::terms::WallContact;
 
 /// The loads of a step.
@@ -96,10 +97,6 @@ fn sinc(x: f64) -> f64 {
     } else {
         x.sin() / x
     }
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// The end velocity of a linear oscillator `ẍ = −λ x + f` over a step `h` of the midpoint rule with
