@@ -215,3 +215,44 @@ fn cauchy_stress_is_the_first_piola_stress_pushed_forward() {
         }
     }
 }
+
+#[test]
+fn the_stress_slope_at_rest_is_symmetric_blind_to_rotation_and_plane_stress_hooke() {
+    for m in materials() {
+        let d = m.stress_slope_at_rest();
+        let scale = m.mu;
+        // an infinitesimal rotation H = [0, −1, 1, 0] stresses nothing
+        for (c, row) in d.iter().enumerate() {
+            let s = -row[1] + row[2];
+            assert!(s.abs() <= 1e-8 * scale, "component {c}: {s} Pa per unit rotation");
+        }
+        // the major symmetry of the elasticity tensor: ∂σxx/∂εyy = ∂σyy/∂εxx; shear from either
+        // off-diagonal entry alike
+        assert!((d[0][3] - d[1][0]).abs() <= 1e-8 * scale, "{:?}", d);
+        assert!((d[2][1] - d[2][2]).abs() <= 1e-8 * scale, "{:?}", d);
+        // shear modulus: σxy = μ (H₀₁ + H₁₀)
+        assert!(
+            (d[2][1] - m.mu).abs() <= 1e-8 * scale,
+            "σxy slope {} against μ {}",
+            d[2][1],
+            m.mu
+        );
+    }
+    // plane stress: uniaxial stress σxx = E ε with εyy = −ν ε, nothing else
+    let cfg = config::Material::default();
+    let d = Material::from_config(&cfg).stress_slope_at_rest();
+    let h = [1.0, 0.0, 0.0, -cfg.poisson_ratio];
+    let s: Vec<f64> = d
+        .iter()
+        .map(|row| row.iter().zip(&h).map(|(a, b)| a * b).sum())
+        .collect();
+    // central differences at 1e-6: truncation 1e-12, rounding ~1e-10 of the slope
+    assert!(
+        (s[0] / cfg.youngs_modulus - 1.0).abs() < 1e-9,
+        "σxx/E = {}",
+        s[0] / cfg.youngs_modulus
+    );
+    for (c, v) in s.iter().enumerate().skip(1) {
+        assert!(v.abs() < 1e-9 * cfg.youngs_modulus, "component {c}: {v}");
+    }
+}

@@ -24,7 +24,7 @@ use crate::element::Tri6;
 use crate::fe::{for_each_point, FeCache};
 use crate::material::{von_mises, Material};
 use crate::quadrature::TriangleRule;
-use crate::terms::elastic::deformation_gradient;
+use crate::terms::elastic::{deformation_gradient, displacement_gradient};
 use crate::{Error, Mesh};
 
 /// Writes into `out` the displacements of `nodes` turned rigidly by `angle` \[rad\] about the
@@ -227,15 +227,16 @@ impl StressRecovery {
             .fold(0.0, f64::max)
     }
 
-    /// The stress `[σxx, σyy, σxy, σzz]` at every element node (six per element, in element order)
-    /// \[Pa\]: what [`StressRecovery::nodal`] averages, for a linear superposition of fields.
-    pub fn element_node_stresses(&self, material: &Material, u: &[f64]) -> Vec<[f64; 4]> {
+    /// The small-strain stress `[σxx, σyy, σxy, σzz]` of the displacement `u` at every element
+    /// node (six per element, in element order) \[Pa\]: `slope · ∇₀u` with `slope` the law's
+    /// derivative at rest ([`Material::stress_slope_at_rest`]). Linear in `u`: the stress of a
+    /// mode, for the superposition of modes; what [`StressRecovery::nodal`] averages.
+    pub fn element_node_small_strain_stresses(&self, slope: &[[f64; 4]; 4], u: &[f64]) -> Vec<[f64; 4]> {
         let mut out = Vec::with_capacity(6 * self.triangles.len());
         for (e, tri) in self.triangles.iter().enumerate() {
             for a in 0..6 {
-                let f = deformation_gradient(tri, &self.nodal.grads[e * 6 + a], u);
-                let (s, szz) = material.cauchy_stress(&f);
-                out.push([s[0], s[1], s[2], szz]);
+                let h = displacement_gradient(tri, &self.nodal.grads[e * 6 + a], u);
+                out.push(slope.map(|row| row[0] * h[0] + row[1] * h[1] + row[2] * h[2] + row[3] * h[3]));
             }
         }
         out

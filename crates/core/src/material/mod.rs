@@ -410,6 +410,30 @@ impl Material {
         }
     }
 
+    /// The small-strain law: the derivative of [`Material::cauchy_stress`] at rest (`F = I`),
+    /// `d[σxx, σyy, σxy, σzz]/dH` \[Pa\] with `H = F − I` as `[H₀₀, H₀₁, H₁₀, H₁₁]`, row `c` the
+    /// stress component, column `k` the gradient component. Central differences at
+    /// `H = ±10⁻⁶ e_k`: the laws are evaluated without differences of numbers near 1, so their
+    /// rounding stays relative to the stress itself, and the truncation error is of the order of
+    /// `10⁻¹²` of the slope. The stress of a small displacement `u` is then `D H(u)`, linear in `u`.
+    pub fn stress_slope_at_rest(&self) -> [[f64; 4]; 4] {
+        const H: f64 = 1e-6;
+        let mut d = [[0.0; 4]; 4];
+        for k in 0..4 {
+            let at = |sign: f64| {
+                let mut f = [1.0, 0.0, 0.0, 1.0];
+                f[k] += sign * H;
+                let (s, szz) = self.cauchy_stress(&f);
+                [s[0], s[1], s[2], szz]
+            };
+            let (plus, minus) = (at(1.0), at(-1.0));
+            for c in 0..4 {
+                d[c][k] = (plus[c] - minus[c]) / (2.0 * H);
+            }
+        }
+        d
+    }
+
     /// Cauchy stress `σ = J⁻¹ P Fᵀ` as `[σxx, σyy, σxy]` and the out-of-plane normal stress `σzz`
     /// (zero in plane stress; in plane strain the value that keeps `ε_zz = 0`) \[Pa\].
     #[allow(non_snake_case)]

@@ -308,23 +308,14 @@ impl ReducedBody {
             cos: shapes.iter().map(|p| dot(p, &proj.cos_weights[..ndof])).collect(),
             sin: shapes.iter().map(|p| dot(p, &proj.sin_weights[..ndof])).collect(),
         };
-        // each mode's small-strain stress: a central difference of the law at ±1 µm, the modes
-        // on the pool's threads
+        // each mode's small-strain stress, the modes on the pool's threads
         let (element_nodes, counts) = body.stress.element_nodes();
         let nen = element_nodes.len();
+        let slope = body.material.stress_slope_at_rest();
         let mut values = vec![0.0; nen * 4 * n];
         values.par_chunks_mut(nen * 4).zip(&shapes).for_each(|(values, phi)| {
-            let amp = phi.iter().fold(0.0f64, |a, b| a.max(b.abs())).max(1e-300);
-            let delta = 1e-6 / amp;
-            let plus: Vec<f64> = phi.iter().map(|v| delta * v).collect();
-            let minus: Vec<f64> = phi.iter().map(|v| -delta * v).collect();
-            let sp = body.stress.element_node_stresses(&body.material, &plus);
-            let sm = body.stress.element_node_stresses(&body.material, &minus);
-            for e in 0..nen {
-                for c in 0..4 {
-                    values[e * 4 + c] = (sp[e][c] - sm[e][c]) / (2.0 * delta);
-                }
-            }
+            let stresses = body.stress.element_node_small_strain_stresses(&slope, phi);
+            values.copy_from_slice(stresses.as_flattened());
         });
         let stress = StressModes {
             values,

@@ -351,7 +351,20 @@ impl Elastic {
 /// `F = I + Σ_a u_a ⊗ ∇₀N_a` for one element.
 #[inline]
 pub fn deformation_gradient(nodes: &[usize; 6], grads: &[[f64; 2]; 6], u: &[f64]) -> VecF {
-    let mut f = [1.0, 0.0, 0.0, 1.0];
+    add_gradient([1.0, 0.0, 0.0, 1.0], nodes, grads, u)
+}
+
+/// The displacement gradient `H = ∇₀u = Σ_a u_a ⊗ ∇₀N_a` for one element (`F − I` without the
+/// rounding of a difference of numbers near 1).
+#[inline]
+pub fn displacement_gradient(nodes: &[usize; 6], grads: &[[f64; 2]; 6], u: &[f64]) -> VecF {
+    add_gradient([0.0; 4], nodes, grads, u)
+}
+
+/// `start + Σ_a u_a ⊗ ∇₀N_a`, summed node after node.
+#[inline]
+fn add_gradient(start: VecF, nodes: &[usize; 6], grads: &[[f64; 2]; 6], u: &[f64]) -> VecF {
+    let mut f = start;
     for (n, g) in nodes.iter().zip(grads.iter()) {
         let (ux, uy) = (u[2 * n], u[2 * n + 1]);
         f[0] += ux * g[0];
