@@ -86,6 +86,9 @@ pub struct Model {
     /// The deformable wall reduced beside the reduced body (`model.kind = "reduced"` with
     /// `wall.kind = "deformable"`, [`crate::reduced::wall`]).
     pub reduced_wall: Option<std::sync::Arc<ReducedWall>>,
+    /// The reduced body's cache file while it is being written beside the run (a body computed,
+    /// not read): the model waits for it when dropped ([`crate::reduced::cache::build_and_keep`]).
+    pub cache_write: crate::reduced::cache::PendingWrite,
     /// The nodes of the head's arc (the contact boundary) with a wall, none without: all a
     /// reduced body rebuilds of the pendulum's fields after each step (the contact reads them).
     pub contact_nodes: Vec<usize>,
@@ -251,6 +254,7 @@ impl Model {
             scheme: config.time.scheme,
             reduced: None,
             reduced_wall: None,
+            cache_write: Default::default(),
             contact_nodes: Vec::new(),
             length: 0.0,
             gravity_scales: [0.0; 2],
@@ -270,7 +274,9 @@ impl Model {
         }
         if let Some((c, mesh)) = twin {
             let twin = Model::new(&c, mesh)?;
-            let body = crate::reduced::cache::load_or_build(&twin, || crate::reduced::basis::for_model(&twin))?;
+            let (body, write) =
+                crate::reduced::cache::load_or_build(&twin, || crate::reduced::basis::for_model(&twin))?;
+            model.cache_write = write;
             let wall = ReducedWall::build(&model, &body, config.model.contact_modes)?;
             (model.reduced, model.reduced_wall) = (Some(body), Some(std::sync::Arc::new(wall)));
         } else if let Some(key) = reduced_key {
@@ -281,7 +287,12 @@ impl Model {
             );
             model.reduced = Some(match stored {
                 Some(body) => body,
-                None => crate::reduced::cache::build_and_keep(key, || crate::reduced::basis::for_model(&model))?,
+                None => {
+                    let (body, write) =
+                        crate::reduced::cache::build_and_keep(key, || crate::reduced::basis::for_model(&model))?;
+                    model.cache_write = write;
+                    body
+                }
             });
         }
         Ok(model)

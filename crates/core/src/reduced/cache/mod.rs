@@ -18,8 +18,9 @@
 //! the body's values as IEEE bits behind a magic, the format version and the key, with a trailing
 //! checksum ([`format`]). A file that does not read back whole (damaged, truncated, another key)
 //! is rebuilt and replaced; a folder that cannot be written costs the set-up, nothing else. A file
-//! is written under a temporary name and renamed, so parallel cases never read half of one. The
-//! body read back is the one computed, bit for bit.
+//! is written under a temporary name and renamed, so parallel cases never read half of one, and on
+//! a thread of its own while the run that computed the body steps (its model waits for it when
+//! dropped, [`PendingWrite`]). The body read back is the one computed, bit for bit.
 
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -113,14 +114,15 @@ fn memory() -> &'static Mutex<HashMap<u64, Arc<ReducedBody>>> {
 }
 
 /// The reduced body of `model`: from this process's memory, from the disk, or computed by `build`
-/// (and then kept in both). The models of one process share one body (it is read only).
+/// (and then kept in both, the file written as [`build_and_keep`] says). The models of one process
+/// share one body (it is read only).
 pub fn load_or_build(
     model: &Model,
     build: impl FnOnce() -> Result<ReducedBody, Error>,
-) -> Result<Arc<ReducedBody>, Error> {
+) -> Result<(Arc<ReducedBody>, PendingWrite), Error> {
     let key = key(model);
     match stored(key) {
-        Some(body) => Ok(body),
+        Some(body) => Ok((body, PendingWrite::default())),
         None => build_and_keep(key, build),
     }
 }
@@ -138,18 +140,43 @@ pub fn stored(key: u64) -> Option<Arc<ReducedBody>> {
     Some(body)
 }
 
-/// The body with `key` computed by `build`, kept in memory and on the disk.
-pub fn build_and_keep(key: u64, build: impl FnOnce() -> Result<ReducedBody, Error>) -> Result<Arc<ReducedBody>, Error> {
-    let body = build()?;
-    if let Some(dir) = folder() {
-        // a cache that cannot be written costs the next run its set-up, nothing else
-        let _ = write_atomically(&file(&dir, key), &to_bytes(&body, key));
+/// A cache file being written on a thread of its own. Dropping it waits for the write to end: the
+/// model that holds it ([`Model`]) lives as long as its run, so a run that ends has left the whole
+/// file (or, if the folder cannot be written, none).
+#[derive(Debug, Default)]
+pub struct PendingWrite(Option<std::thread::JoinHandle<()>>);
+
+impl Drop for PendingWrite {
+    fn drop(&mut self) {
+        if let Some(writer) = self.0.take() {
+            let _ = writer.join();
+        }
     }
-    let body = Arc::new(body);
+}
+
+/// The body with `key` computed by `build`, kept in memory and on the disk. The file (3.5 MB for
+/// the tutorial's body, a few milliseconds to encode and write) is written on a thread of its own
+/// while the caller goes on to its steps; the returned [`PendingWrite`] waits for it when dropped.
+pub fn build_and_keep(
+    key: u64,
+    build: impl FnOnce() -> Result<ReducedBody, Error>,
+) -> Result<(Arc<ReducedBody>, PendingWrite), Error> {
+    let body = Arc::new(build()?);
     if let Ok(mut m) = memory().lock() {
         m.insert(key, body.clone());
     }
-    Ok(body)
+    let write = folder().map(|dir| {
+        let (path, kept) = (file(&dir, key), body.clone());
+        // a cache that cannot be written costs the next run its set-up, nothing else; a thread
+        // that cannot be started leaves the file unwritten
+        std::thread::Builder::new()
+            .name("reduced-cache-write".into())
+            .spawn(move || {
+                let _ = write_atomically(&path, &to_bytes(&kept, key));
+            })
+            .ok()
+    });
+    Ok((body, PendingWrite(write.flatten())))
 }
 
 fn write_atomically(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
