@@ -13,7 +13,8 @@
 //!
 //! ```text
 //! w = W q_j,  α_j = ⟨w, q_j⟩_M,  w ← w − α_j q_j − β_{j−1} q_{j−1},
-//! w ← w − Σ_{i ≤ j} ⟨w, q_i⟩_M q_i   (twice: full reorthogonalisation),
+//! w ← w − Σ_{i ≤ j} ⟨w, q_i⟩_M q_i   (full reorthogonalisation, repeated while a pass
+//!                                     shortens w by more than a factor 1/√2),
 //! β_j = ‖w‖_M,  q_{j+1} = w / β_j,
 //! ```
 //!
@@ -89,16 +90,29 @@ pub(crate) fn largest(
             return Err(Error::Modal(format!("non-finite value in Lanczos step {}", j + 1)));
         }
         alpha.push(a);
-        // full reorthogonalisation (classical Gram–Schmidt, twice) includes the three-term
-        // recurrence's α_j q_j + β_{j−1} q_{j−1}
-        for _ in 0..2 {
+        // the three-term recurrence, then the full reorthogonalisation by classical Gram–Schmidt
+        // against every q_i, repeated only while a pass removes more than 30 % of the length
+        // (the Daniel–Gragg–Kaufman–Stewart criterion): the recurrence has taken the large
+        // components, so one pass is usually enough, and each pass reads every earlier vector
+        w.iter_mut().zip(&q[j]).for_each(|(x, y)| *x -= a * y);
+        if let (Some(&b), Some(prev)) = (beta.last(), j.checked_sub(1).map(|i| &q[i])) {
+            w.iter_mut().zip(prev).for_each(|(x, y)| *x -= b * y);
+        }
+        mass.apply(&w, &mut mw);
+        let mut b = dot(&w, &mw).max(0.0).sqrt();
+        for _ in 0..3 {
             let coef: Vec<f64> = mq.iter().map(|m| dot(&w, m)).collect();
             for (qi, c) in q.iter().zip(&coef) {
                 w.iter_mut().zip(qi).for_each(|(x, y)| *x -= c * y);
             }
+            mass.apply(&w, &mut mw);
+            let after = dot(&w, &mw).max(0.0).sqrt();
+            let enough = after >= std::f64::consts::FRAC_1_SQRT_2 * b;
+            b = after;
+            if enough {
+                break;
+            }
         }
-        mass.apply(&w, &mut mw);
-        let b = dot(&w, &mw).max(0.0).sqrt();
         let steps = j + 1;
         let exhausted = steps >= max_steps || b <= 1e-14 * a.abs();
         // every step from the wanted count on: a step costs a sparse solve, the check an
