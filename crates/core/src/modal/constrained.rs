@@ -103,11 +103,12 @@ impl ConstrainedSolver {
         if chol.is_indefinite() {
             return Err(Error::Modal(format!("{what} is not positive definite")));
         }
+        // Z = A⁻¹Cᵀ, up to three columns in one pass of the triangular solves over the factor
         let mut z = Vec::with_capacity(rows.len());
-        for r in rows {
-            let mut col = r.clone();
-            chol.solve_in_place(&mut col);
-            z.push(col);
+        for group in rows.chunks(3) {
+            let mut cols: Vec<f64> = group.concat();
+            chol.solve_in_place(&mut cols);
+            z.extend(cols.chunks_exact(n).map(<[f64]>::to_vec));
         }
         let m = rows.len();
         let s = Mat::<f64>::from_fn(m, m, |i, j| dot(&rows[i], &z[j]));
