@@ -351,20 +351,7 @@ impl Elastic {
 /// `F = I + Σ_a u_a ⊗ ∇₀N_a` for one element.
 #[inline]
 pub fn deformation_gradient(nodes: &[usize; 6], grads: &[[f64; 2]; 6], u: &[f64]) -> VecF {
-    add_gradient([1.0, 0.0, 0.0, 1.0], nodes, grads, u)
-}
-
-/// The displacement gradient `H = ∇₀u = Σ_a u_a ⊗ ∇₀N_a` for one element (`F − I` without the
-/// rounding of a difference of numbers near 1).
-#[inline]
-pub fn displacement_gradient(nodes: &[usize; 6], grads: &[[f64; 2]; 6], u: &[f64]) -> VecF {
-    add_gradient([0.0; 4], nodes, grads, u)
-}
-
-/// `start + Σ_a u_a ⊗ ∇₀N_a`, summed node after node.
-#[inline]
-fn add_gradient(start: VecF, nodes: &[usize; 6], grads: &[[f64; 2]; 6], u: &[f64]) -> VecF {
-    let mut f = start;
+    let mut f = [1.0, 0.0, 0.0, 1.0];
     for (n, g) in nodes.iter().zip(grads.iter()) {
         let (ux, uy) = (u[2 * n], u[2 * n + 1]);
         f[0] += ux * g[0];
@@ -373,6 +360,15 @@ fn add_gradient(start: VecF, nodes: &[usize; 6], grads: &[[f64; 2]; 6], u: &[f64
         f[3] += uy * g[1];
     }
     f
+}
+
+/// The displacement gradient `H = ∇₀u = Σ_a u_a ⊗ ∇₀N_a` for one element (`F − I` without the
+/// rounding of a difference of numbers near 1).
+pub fn displacement_gradient(nodes: &[usize; 6], grads: &[[f64; 2]; 6], u: &[f64]) -> VecF {
+    nodes.iter().zip(grads).fold([0.0; 4], |h, (n, g)| {
+        let (ux, uy) = (u[2 * n], u[2 * n + 1]);
+        [h[0] + ux * g[0], h[1] + ux * g[1], h[2] + uy * g[0], h[3] + uy * g[1]]
+    })
 }
 
 impl Elastic {
