@@ -48,6 +48,10 @@ pub struct NodeBounds {
     members: Vec<usize>,
     /// `B_k(n)` at index `k · N + n` (`N` mesh nodes) \[Pa per unit amplitude\].
     bounds: Vec<f64>,
+    /// The same node after node: `B_k(n)` at index `n · K + k` (`K` modes).
+    by_node: Vec<f64>,
+    /// `max_n B_k(n)` of each mode.
+    mode_max: Vec<f64>,
 }
 
 /// A state `q̂` with its nodal values `V(n, q̂)` and `T(n, q̂) = Σ_k |q̂_k| B_k(n)` (the scale of
@@ -55,7 +59,18 @@ pub struct NodeBounds {
 /// evaluated, kept by the simulation between calls. Any state serves (the bounds hold for every
 /// `q̂`); a close one makes them tight.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct StressReference(Option<(Vec<f64>, Vec<f64>, Vec<f64>)>);
+pub struct StressReference(Option<Reference>);
+
+#[derive(Clone, Debug, PartialEq)]
+struct Reference {
+    q: Vec<f64>,
+    /// `V(n, q̂)`.
+    values: Vec<f64>,
+    /// `T(n, q̂)`.
+    scale: Vec<f64>,
+    /// The nodes of the body by `V(n, q̂) + BOUND_MARGIN T(n, q̂)`, largest first.
+    order: Vec<u32>,
+}
 
 /// Relative margin on the bounds of [`NodeBounds`], of `T(n, q) + T(n, q̂)`, against the rounding
 /// of the sums that evaluate the nodal values (`~1e-15` of `T` each).
@@ -112,10 +127,17 @@ impl StressModes {
                     }
                 }
             });
+            let by_node = (0..nn * modes).map(|i| bounds[(i % modes) * nn + i / modes]).collect();
+            let mode_max = bounds
+                .chunks(nn.max(1))
+                .map(|b| b.iter().fold(0.0, |a: f64, x| a.max(*x)))
+                .collect();
             NodeBounds {
                 starts,
                 members,
                 bounds,
+                by_node,
+                mode_max,
             }
         })
     }
@@ -131,32 +153,43 @@ impl StressModes {
         }
     }
 
-    /// The largest nodal value at `q` from the reference `(q̂, V(·, q̂), T(·, q̂))`, evaluating only
-    /// the nodes whose bound reaches the value at the node of the largest bound; `None` when more
-    /// than a [`CANDIDATE_SHARE`]th of the nodes would need it. The bound with its margin,
-    /// `V(n, q̂) + Σ_k |q_k − q̂_k| B_k(n) + BOUND_MARGIN (T(n, q̂) + T(n, q))`, in one pass per mode.
-    fn bounded_max(&self, index: &NodeBounds, q: &[f64], q_ref: &[f64], v_ref: &[f64], t_ref: &[f64]) -> Option<f64> {
-        let nn = self.counts.len();
-        let mut reach: Vec<f64> = v_ref.iter().zip(t_ref).map(|(v, t)| v + BOUND_MARGIN * t).collect();
-        let weights = q.iter().zip(q_ref).map(|(a, r)| (a - r).abs() + BOUND_MARGIN * a.abs());
-        self.add_bounds(index, weights, &mut reach);
-        let first = (0..nn)
-            .filter(|&n| self.counts[n] > 0.0)
-            .max_by(|&a, &b| reach[a].total_cmp(&reach[b]))?;
-        if !reach[first].is_finite() {
-            return None;
-        }
-        let mut best = self.node_von_mises(index, q, first);
-        let candidates: Vec<usize> = (0..nn)
-            .filter(|&n| n != first && self.counts[n] > 0.0 && reach[n] >= best)
+    /// The largest nodal value at `q` from the reference `r`, exact: the nodes in the order of
+    /// `V(n, q̂)` (with its margin), each one's bound
+    /// `V(n, q̂) + Σ_k w_k B_k(n)` with `w_k = |q_k − q̂_k| + BOUND_MARGIN |q_k|` (the margin of
+    /// `T(n, q̂) + T(n, q)`), and its exact value where the bound reaches the largest value found
+    /// so far. The walk stops where even `V(n, q̂) + Σ_k w_k max_n B_k` falls short of it: no later
+    /// node can reach it, the largest node's value among them included. `None` when more than a
+    /// [`CANDIDATE_SHARE`]th of the nodes would be evaluated (the state is far from `q̂`).
+    fn bounded_max(&self, index: &NodeBounds, q: &[f64], r: &Reference) -> Option<f64> {
+        let modes = q.len();
+        let weights: Vec<f64> = q
+            .iter()
+            .zip(&r.q)
+            .map(|(a, b)| (a - b).abs() + BOUND_MARGIN * a.abs())
             .collect();
-        if candidates.len() > nn / CANDIDATE_SHARE {
+        let reach_all: f64 = weights.iter().zip(&index.mode_max).map(|(w, b)| w * b).sum();
+        if !reach_all.is_finite() {
             return None;
         }
-        for n in candidates {
-            best = best.max(self.node_von_mises(index, q, n));
+        let limit = self.counts.len() / CANDIDATE_SHARE;
+        let (mut best, mut evaluated) = (f64::NEG_INFINITY, 0);
+        for &n in &r.order {
+            let n = n as usize;
+            let base = r.values[n] + BOUND_MARGIN * r.scale[n];
+            if base + reach_all < best {
+                break;
+            }
+            let b = &index.by_node[n * modes..(n + 1) * modes];
+            let reach = base + weights.iter().zip(b).map(|(w, b)| w * b).sum::<f64>();
+            if reach >= best {
+                evaluated += 1;
+                if evaluated > limit {
+                    return None;
+                }
+                best = best.max(self.node_von_mises(index, q, n));
+            }
         }
-        Some(best)
+        best.is_finite().then_some(best)
     }
 
     /// The averaged von Mises stress of mesh node `n` for the amplitudes `q`, summed exactly as
@@ -291,19 +324,20 @@ impl ReducedBody {
 
     /// The largest nodal von Mises stress of a state \[Pa\] (see the module doc), the same bits as
     /// [`ReducedBody::nodal_stress`]'s `max_von_mises`, evaluated only where it can be largest:
-    /// the bound of [`NodeBounds`] from the reference state at every node (one pass over the nodes
-    /// per mode, not over the element nodes' four components), the exact value at the node of the
-    /// largest bound, then at every node whose bound reaches that value. Where more than a
-    /// sixteenth of the nodes would need it (no reference yet, or one far from this state), every
-    /// node is evaluated as in `nodal_stress`, and this state becomes the reference.
+    /// the nodes walked in the order of their value at the reference state, each one's bound of
+    /// [`NodeBounds`] taken, and its exact value where the bound reaches the largest found so
+    /// far, until even the bound with every mode at its largest falls short (see `bounded_max`).
+    /// Where more than a sixteenth of the nodes would need it (no reference yet, or one far from
+    /// this state), every node is evaluated as in `nodal_stress`, and this state becomes the
+    /// reference.
     pub fn von_mises_max(&self, s: &ReducedState, reference: &mut StressReference) -> f64 {
         let sm = &self.stress;
         let index = sm.node_bounds();
         let nn = sm.counts.len();
         let modes = index.bounds.len().checked_div(nn).unwrap_or(0);
-        if let Some((q_ref, v_ref, t_ref)) = &reference.0 {
-            if q_ref.len() == s.q.len() && v_ref.len() == nn {
-                if let Some(max) = sm.bounded_max(index, &s.q, q_ref, v_ref, t_ref) {
+        if let Some(r) = &reference.0 {
+            if r.q.len() == s.q.len() && modes == s.q.len() && r.values.len() == nn {
+                if let Some(max) = sm.bounded_max(index, &s.q, r) {
                     return max;
                 }
             }
@@ -312,7 +346,15 @@ impl ReducedBody {
         if modes == s.q.len() {
             let mut scale = vec![0.0; nn];
             sm.add_bounds(index, s.q.iter().map(|a| a.abs()), &mut scale);
-            reference.0 = Some((s.q.clone(), all.von_mises, scale));
+            let base = |n: u32| all.von_mises[n as usize] + BOUND_MARGIN * scale[n as usize];
+            let mut order: Vec<u32> = (0..nn as u32).filter(|&n| sm.counts[n as usize] > 0.0).collect();
+            order.sort_by(|&a, &b| base(b).total_cmp(&base(a)));
+            reference.0 = Some(Reference {
+                q: s.q.clone(),
+                values: all.von_mises,
+                scale,
+                order,
+            });
         }
         all.max_von_mises
     }
