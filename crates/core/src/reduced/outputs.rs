@@ -46,12 +46,20 @@ pub struct NodeBounds {
     /// `members[starts[n]..starts[n + 1]]`: the element nodes of mesh node `n`.
     starts: Vec<usize>,
     members: Vec<usize>,
-    /// `B_k(n)` at index `k · N + n` (`N` mesh nodes) \[Pa per unit amplitude\].
-    bounds: Vec<f64>,
-    /// The same node after node: `B_k(n)` at index `n · K + k` (`K` modes).
+    /// The number of modes `K`.
+    modes: usize,
+    /// `B_k(n)` node after node, at index `n · K + k` \[Pa per unit amplitude\].
     by_node: Vec<f64>,
     /// `max_n B_k(n)` of each mode.
     mode_max: Vec<f64>,
+}
+
+impl NodeBounds {
+    /// `Σ_k w_k B_k(n)`, the modes in order.
+    fn weighted(&self, n: usize, weights: &[f64]) -> f64 {
+        let b = &self.by_node[n * self.modes..(n + 1) * self.modes];
+        weights.iter().zip(b).map(|(w, b)| w * b).sum()
+    }
 }
 
 /// A state `q̂` with its nodal values `V(n, q̂)` and `T(n, q̂) = Σ_k |q̂_k| B_k(n)` (the scale of
@@ -64,11 +72,9 @@ pub struct StressReference(Option<Reference>);
 #[derive(Clone, Debug, PartialEq)]
 struct Reference {
     q: Vec<f64>,
-    /// `V(n, q̂)`.
-    values: Vec<f64>,
-    /// `T(n, q̂)`.
-    scale: Vec<f64>,
-    /// The nodes of the body by `V(n, q̂) + BOUND_MARGIN T(n, q̂)`, largest first.
+    /// `V(n, q̂) + BOUND_MARGIN T(n, q̂)` of every node.
+    base: Vec<f64>,
+    /// The nodes of the body by `base`, largest first.
     order: Vec<u32>,
 }
 
@@ -135,22 +141,11 @@ impl StressModes {
             NodeBounds {
                 starts,
                 members,
-                bounds,
+                modes,
                 by_node,
                 mode_max,
             }
         })
-    }
-
-    /// `out(n) += Σ_k w_k B_k(n)`.
-    fn add_bounds(&self, index: &NodeBounds, weights: impl Iterator<Item = f64>, out: &mut [f64]) {
-        let nn = out.len();
-        for (k, w) in weights.enumerate() {
-            if w != 0.0 {
-                let col = &index.bounds[k * nn..(k + 1) * nn];
-                out.iter_mut().zip(col).for_each(|(u, b)| *u += w * b);
-            }
-        }
     }
 
     /// The largest nodal value at `q` from the reference `r`, exact: the nodes in the order of
@@ -161,7 +156,6 @@ impl StressModes {
     /// node can reach it, the largest node's value among them included. `None` when more than a
     /// [`CANDIDATE_SHARE`]th of the nodes would be evaluated (the state is far from `q̂`).
     fn bounded_max(&self, index: &NodeBounds, q: &[f64], r: &Reference) -> Option<f64> {
-        let modes = q.len();
         let weights: Vec<f64> = q
             .iter()
             .zip(&r.q)
@@ -175,12 +169,11 @@ impl StressModes {
         let (mut best, mut evaluated) = (f64::NEG_INFINITY, 0);
         for &n in &r.order {
             let n = n as usize;
-            let base = r.values[n] + BOUND_MARGIN * r.scale[n];
+            let base = r.base[n];
             if base + reach_all < best {
                 break;
             }
-            let b = &index.by_node[n * modes..(n + 1) * modes];
-            let reach = base + weights.iter().zip(b).map(|(w, b)| w * b).sum::<f64>();
+            let reach = base + index.weighted(n, &weights);
             if reach >= best {
                 evaluated += 1;
                 if evaluated > limit {
@@ -334,9 +327,9 @@ impl ReducedBody {
         let sm = &self.stress;
         let index = sm.node_bounds();
         let nn = sm.counts.len();
-        let modes = index.bounds.len().checked_div(nn).unwrap_or(0);
+        let modes = index.modes;
         if let Some(r) = &reference.0 {
-            if r.q.len() == s.q.len() && modes == s.q.len() && r.values.len() == nn {
+            if r.q.len() == s.q.len() && modes == s.q.len() && r.base.len() == nn {
                 if let Some(max) = sm.bounded_max(index, &s.q, r) {
                     return max;
                 }
@@ -344,15 +337,15 @@ impl ReducedBody {
         }
         let all = self.nodal_stress(s);
         if modes == s.q.len() {
-            let mut scale = vec![0.0; nn];
-            sm.add_bounds(index, s.q.iter().map(|a| a.abs()), &mut scale);
-            let base = |n: u32| all.von_mises[n as usize] + BOUND_MARGIN * scale[n as usize];
+            let size: Vec<f64> = s.q.iter().map(|a| a.abs()).collect();
+            let base: Vec<f64> = (0..nn)
+                .map(|n| all.von_mises[n] + BOUND_MARGIN * index.weighted(n, &size))
+                .collect();
             let mut order: Vec<u32> = (0..nn as u32).filter(|&n| sm.counts[n as usize] > 0.0).collect();
-            order.sort_by(|&a, &b| base(b).total_cmp(&base(a)));
+            order.sort_by(|&a, &b| base[b as usize].total_cmp(&base[a as usize]));
             reference.0 = Some(Reference {
                 q: s.q.clone(),
-                values: all.von_mises,
-                scale,
+                base,
                 order,
             });
         }
