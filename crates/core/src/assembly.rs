@@ -222,9 +222,17 @@ impl Dirichlet {
     pub fn new(pattern: &Pattern, mut dofs: Vec<usize>) -> Self {
         dofs.sort_unstable();
         dofs.dedup();
+        let (mut off_diagonal, mut diagonal) = (Vec::new(), Vec::new());
+        if dofs.is_empty() {
+            // the pendulum alone, held by its hinge: no entry to find
+            return Self {
+                dofs,
+                off_diagonal,
+                diagonal,
+            };
+        }
         let mut fixed = vec![false; pattern.n];
         dofs.iter().for_each(|&d| fixed[d] = true);
-        let (mut off_diagonal, mut diagonal) = (Vec::new(), Vec::new());
         for c in 0..pattern.n {
             for k in pattern.col_ptr[c]..pattern.col_ptr[c + 1] {
                 let r = pattern.row_idx[k];

@@ -34,7 +34,7 @@
 //! `init` (the set-up and the initial state), `measures` (outputs and rigid-body measures of the
 //! current state), `schemes` (one step of each time scheme), `substep` (an output step in
 //! sub-steps and cut-backs), `clock`, `stepper` (`step`, `advance` and the outputs on request), `impact`,
-//! `snapshot`, `body`, `split`.
+//! `snapshot`, `body`, `split`, `shared` (the operators models of one mesh share).
 
 use crate::linsolve::Cholesky;
 use crate::newmark::State;
@@ -52,6 +52,7 @@ mod model;
 mod record;
 mod reduced;
 mod schemes;
+pub mod shared;
 pub(crate) mod snapshot;
 pub mod split;
 mod stepper;
@@ -61,6 +62,7 @@ pub use body::{Body, BodySpec};
 pub use impact::{ContactEvent, ContactEventKind};
 pub use model::{Model, CONTACT_BOUNDARY, HINGE_BOUNDARY};
 pub use record::{ContactRecord, Frame, FrameData, StepRecord};
+pub use shared::forget_shared;
 pub use snapshot::{fingerprint, Fingerprint, Snapshot, SNAPSHOT_VERSION};
 pub use stepper::Energies;
 

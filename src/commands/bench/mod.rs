@@ -47,8 +47,9 @@ fn temp_dir(tag: &str) -> Result<PathBuf, Error> {
 
 /// One default run into a scratch folder.
 pub fn time_default_run(cfg: &Config) -> Result<RunSummary, Error> {
-    // a whole run meshes, as a fresh process does
+    // a whole run meshes and builds its operators, as a fresh process does
     crate::mesh::forget_last();
+    crate::simulation::forget_shared();
     let dir = temp_dir("run")?;
     let opts = RunOptions {
         config: cfg.clone(),

@@ -13,6 +13,7 @@
 //! assembly ([`crate::assembly::Dirichlet`]), so the pattern is the same with or without them.
 
 use std::ops::Range;
+use std::sync::Arc;
 
 use crate::config::{self, Config};
 use crate::fe::FeCache;
@@ -20,6 +21,7 @@ use crate::material::Material;
 use crate::mesh::{BoundaryEdge, Mesh};
 use crate::post::{NodalStress, StressRecovery};
 use crate::quadrature::TriangleRule;
+use crate::simulation::shared::{shared, try_shared, Key};
 use crate::terms::{Elastic, Gravity};
 use crate::Error;
 
@@ -60,9 +62,9 @@ pub struct Body {
     /// Strain energy.
     pub elastic: Elastic,
     /// Gravity (a zero load when gravity does not act on the body).
-    pub gravity: Gravity,
+    pub gravity: Arc<Gravity>,
     /// Stresses at its nodes.
-    pub stress: StressRecovery,
+    pub stress: Arc<StressRecovery>,
     /// Its fixed degrees of freedom (model numbering).
     pub fixed_dofs: Vec<usize>,
 }
@@ -103,8 +105,17 @@ impl Body {
         0.5 * thinnest / speed
     }
 
-    /// Builds a body on its `view` of the model's mesh.
-    fn new(name: &str, view: Mesh, nodes: Range<usize>, first_element: usize, makeup: Makeup) -> Result<Self, Error> {
+    /// Builds a body on its `view` of the model's mesh; `key` names the view (the model's mesh and
+    /// the body's elements): the element data are shared with the bodies of other models on the
+    /// same view ([`crate::simulation::shared`]).
+    fn new(
+        name: &str,
+        view: Mesh,
+        key: Key,
+        nodes: Range<usize>,
+        first_element: usize,
+        makeup: Makeup,
+    ) -> Result<Self, Error> {
         let Makeup {
             material,
             thickness,
@@ -114,11 +125,17 @@ impl Body {
         let law = Material::from_config(material);
         // the element data of the strain energy on one thread, the rest on another
         let (cache, (gravity, stress)) = rayon::join(
-            || FeCache::new(&view, &TriangleRule::degree4(), thickness),
+            || {
+                try_shared(&key.clone().with_f64(&[thickness]), || {
+                    FeCache::new(&view, &TriangleRule::degree4(), thickness)
+                })
+            },
             || {
                 (
-                    Gravity::new(&view, material.density, thickness, g),
-                    StressRecovery::new(&view),
+                    shared(&key.clone().with_f64(&[material.density, thickness, g]), || {
+                        Gravity::new(&view, material.density, thickness, g)
+                    }),
+                    try_shared(&key, || StressRecovery::new(&view)),
                 )
             },
         );
@@ -168,6 +185,13 @@ pub(super) struct Part {
     /// Mass density \[kg/m³\] and thickness \[m\].
     pub density: f64,
     pub thickness: f64,
+}
+
+impl Part {
+    /// The key of its view of the model's mesh of key `mesh` ([`crate::simulation::shared`]).
+    pub fn key(&self, mesh: &Key) -> Key {
+        mesh.clone().with(&[self.elements.start, self.elements.end])
+    }
 }
 
 /// The model's mesh of the pendulum `first` and the `others` appended, and each body's part of it
@@ -225,8 +249,9 @@ fn makeup<'a>(config: &'a Config, others: &'a [BodySpec], k: usize) -> Makeup<'a
     }
 }
 
-/// The bodies on the `parts` of [`parts`] (the pendulum's first, then the `others`').
-pub(super) fn bodies(config: &Config, parts: &[Part], others: &[BodySpec]) -> Result<Vec<Body>, Error> {
+/// The bodies on the `parts` of [`parts`] (the pendulum's first, then the `others`'); `mesh` is the
+/// key of the model's mesh ([`crate::simulation::shared`]).
+pub(super) fn bodies(config: &Config, parts: &[Part], others: &[BodySpec], mesh: &Key) -> Result<Vec<Body>, Error> {
     parts
         .iter()
         .enumerate()
@@ -235,6 +260,7 @@ pub(super) fn bodies(config: &Config, parts: &[Part], others: &[BodySpec]) -> Re
             Body::new(
                 &part.name,
                 part.view.clone(),
+                part.key(mesh),
                 part.nodes.clone(),
                 part.elements.start,
                 m,

@@ -2,6 +2,9 @@
 //! mesh and terms, the sparsity pattern, the mass matrix, the hinge, the torque and the wall), and
 //! the energies, scales and initial state it defines.
 
+use std::sync::Arc;
+
+use super::shared::{shared, Key};
 use super::{body, snapshot, Body, BodySpec, Fingerprint};
 #[cfg(doc)]
 use super::{Simulation, Snapshot};
@@ -54,8 +57,9 @@ pub struct Model {
     pub mesh: Mesh,
     /// The bodies; the first is the pendulum ([`Model::pendulum`]).
     pub bodies: Vec<Body>,
-    /// Fixed sparsity pattern.
-    pub pattern: Pattern,
+    /// Fixed sparsity pattern (shared with the models of the same mesh and loads,
+    /// [`super::shared`]).
+    pub pattern: Arc<Pattern>,
     /// The fixed degrees of freedom of every body.
     pub fixed: Dirichlet,
     /// The actuator torque, when `[torque]` has a profile other than `"none"` (its profile is the
@@ -68,12 +72,13 @@ pub struct Model {
     /// the mesh and the torque table as read: a [`Snapshot`] made for another model is refused
     /// ([`Simulation::restore`]).
     pub fingerprint: Fingerprint,
-    /// Consistent mass matrix.
-    pub mass: MassMatrix,
+    /// Consistent mass matrix (shared as the pattern).
+    pub mass: Arc<MassMatrix>,
     /// The hinge.
     pub hinge: Hinge,
-    /// Proxy-angle functionals and rigid-body moments of area (of the pendulum).
-    pub projection: RigidProjection,
+    /// Proxy-angle functionals and rigid-body moments of area (of the pendulum; shared as the
+    /// pattern).
+    pub projection: Arc<RigidProjection>,
     /// Time integrator.
     pub newmark: Newmark,
     /// α of HHT-α (0: the trapezoidal rule).
@@ -201,6 +206,15 @@ impl Model {
                 thickness: p.thickness,
             })
             .collect();
+        // the keys of the operators shared with other models (see `shared`): the pattern's is the
+        // mesh's and the loads' entries, the mass matrix's adds each body's density and thickness
+        let mesh_key = Key::on(&mesh, fingerprint.mesh);
+        let pattern_key = mesh_key
+            .clone()
+            .with(&entries.iter().flat_map(|&(r, c)| [r, c]).collect::<Vec<_>>());
+        let mass_key = parts.iter().fold(pattern_key.clone(), |k, p| {
+            p.key(&k).with_f64(&[p.density, p.thickness])
+        });
         // a reduced pendulum's body from the cache (memory or disk), if it has it
         let reduced_key = (config.model.kind == ModelKind::Reduced && twin.is_none())
             .then(|| crate::reduced::cache::key_of(config, fingerprint.mesh, torque.is_some()));
@@ -209,7 +223,7 @@ impl Model {
         let ((bodies, stored), ((pattern, mass), projection)) = rayon::join(
             || {
                 rayon::join(
-                    || body::bodies(config, &parts, &others),
+                    || body::bodies(config, &parts, &others, &mesh_key),
                     || {
                         let stored = reduced_key.and_then(crate::reduced::cache::stored);
                         stored.inspect(|body| body.stress.prepare())
@@ -219,11 +233,11 @@ impl Model {
             || {
                 rayon::join(
                     || {
-                        let pattern = Pattern::new(&mesh, &entries);
-                        let mass = MassMatrix::of_bodies(&pattern, &masses);
+                        let pattern = shared(&pattern_key, || Pattern::new(&mesh, &entries));
+                        let mass = shared(&mass_key, || MassMatrix::of_bodies(&pattern, &masses));
                         (pattern, mass)
                     },
-                    || RigidProjection::new(pendulum_view),
+                    || shared(&parts[0].key(&mesh_key), || RigidProjection::new(pendulum_view)),
                 )
             },
         );
@@ -320,7 +334,7 @@ impl Model {
     pub fn body_terms(&self, chi: f64) -> Vec<(&dyn Term, f64)> {
         self.bodies
             .iter()
-            .flat_map(|b| [(&b.elastic as &dyn Term, 1.0 + chi), (&b.gravity as &dyn Term, 1.0)])
+            .flat_map(|b| [(&b.elastic as &dyn Term, 1.0 + chi), (&*b.gravity as &dyn Term, 1.0)])
             .collect()
     }
 

@@ -238,7 +238,7 @@ impl Simulation {
             // from the fields, which every step with a wall brings up to date
             (Some(body), Some(r), Some(wall)) => (
                 body.strain(&r.q) + wall.strain(&r.wall_q),
-                body.gravity(r, m.config.gravity.g) + crate::terms::Term::energy(&m.bodies[1].gravity, &s.u, &cx),
+                body.gravity(r, m.config.gravity.g) + crate::terms::Term::energy(&*m.bodies[1].gravity, &s.u, &cx),
                 if self.reduced_clearance().is_some_and(|c| c > 0.0) {
                     0.0
                 } else {

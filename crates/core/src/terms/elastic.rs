@@ -28,6 +28,8 @@
 //! symmetric, so the forces have no moment about the pivot at the mid-step positions: angular
 //! momentum is conserved. A rigid rotation of any size leaves `E` and therefore `S_d` unchanged.
 
+use std::sync::Arc;
+
 use rayon::prelude::*;
 
 use super::{StepContext, StepStart, Term};
@@ -54,8 +56,9 @@ pub struct Elastic {
     pub material: Material,
     /// Element connectivity.
     pub triangles: Vec<[usize; 6]>,
-    /// Reference data (degree-4 rule, weights carry the thickness).
-    pub cache: FeCache,
+    /// Reference data (degree-4 rule, weights carry the thickness), shared by the models of one
+    /// mesh ([`crate::simulation::shared`]).
+    pub cache: Arc<FeCache>,
     /// Index of the first element among the elements of the pattern it assembles into (a body
     /// after the first of a model starts after the elements of those before it).
     pub first_element: usize,
@@ -70,11 +73,11 @@ struct ElementOut {
 
 impl Elastic {
     /// Builds the term.
-    pub fn new(material: Material, mesh: &Mesh, cache: FeCache) -> Self {
+    pub fn new(material: Material, mesh: &Mesh, cache: impl Into<Arc<FeCache>>) -> Self {
         Self {
             material,
             triangles: mesh.triangles.clone(),
-            cache,
+            cache: cache.into(),
             first_element: 0,
         }
     }
