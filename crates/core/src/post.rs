@@ -72,8 +72,8 @@ impl RigidProjection {
     /// Precomputes the functionals on `mesh` (pivot at the origin).
     pub fn new(mesh: &Mesh) -> Self {
         let ndof = 2 * mesh.num_nodes();
-        let mut sin_weights = vec![0.0; ndof];
-        let mut cos_weights = vec![0.0; ndof];
+        let mut sin_weights = crate::assembly::written_zeros(ndof);
+        let mut cos_weights = crate::assembly::written_zeros(ndof);
         let (mut polar, mut area, mut first_moment) = (0.0, 0.0, [0.0; 2]);
         for_each_point(mesh, &TriangleRule::degree6(), |e, n, x, w| {
             polar += (x[0] * x[0] + x[1] * x[1]) * w;

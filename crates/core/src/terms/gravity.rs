@@ -20,7 +20,7 @@ pub struct Gravity {
 impl Gravity {
     /// Gravity of magnitude `g` \[m/s²\] on a body of density `rho` and thickness `thickness`.
     pub fn new(mesh: &Mesh, rho: f64, thickness: f64, g: f64) -> Self {
-        let mut load_gradient = vec![0.0; 2 * mesh.num_nodes()];
+        let mut load_gradient = crate::assembly::written_zeros(2 * mesh.num_nodes());
         let mut reference_energy = 0.0;
         let c = rho * thickness * g;
         for_each_point(mesh, &TriangleRule::degree6(), |e, n, x, w| {

@@ -44,7 +44,7 @@ impl MassMatrix {
 
     /// Assembles the mass matrix of several bodies, each with its own density and thickness.
     pub fn of_bodies(pattern: &Pattern, bodies: &[BodyMass]) -> Self {
-        let mut values = vec![0.0; pattern.nnz()];
+        let mut values = crate::assembly::written_zeros(pattern.nnz());
         let rule = TriangleRule::degree6();
         for body in bodies {
             let (rho, thickness) = (body.density, body.thickness);
