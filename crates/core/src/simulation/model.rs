@@ -209,9 +209,7 @@ impl Model {
         // the keys of the operators shared with other models (see `shared`): the pattern's is the
         // mesh's and the loads' entries, the mass matrix's adds each body's density and thickness
         let mesh_key = Key::on(&mesh, fingerprint.mesh);
-        let pattern_key = mesh_key
-            .clone()
-            .with(&entries.iter().flat_map(|&(r, c)| [r, c]).collect::<Vec<_>>());
+        let pattern_key = mesh_key.clone().with(entries.as_slice());
         let mass_key = parts.iter().fold(pattern_key.clone(), |k, p| {
             p.key(&k).with_f64(&[p.density, p.thickness])
         });

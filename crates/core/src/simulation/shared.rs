@@ -3,7 +3,8 @@
 //! gravity loads, the rigid-body functionals), shared by the models of one process that are
 //! built from the same inputs: the cases of a sweep over the start, the time step, the material's
 //! stiffness or the torque, FMU instances and Python simulations of one pendulum. On the
-//! tutorial's pendulum they are a fifth of a reduced case's time.
+//! tutorial's pendulum, building them in every case made a reduced sweep of 64 release angles take
+//! 0.34 s; shared, it takes 0.21 s.
 //!
 //! Each is kept as an `Arc` under a key that hashes everything it is built from (the mesh's
 //! fingerprint, its size and element order, the element range of the body, the density,
@@ -71,8 +72,8 @@ impl Key {
         Self(h)
     }
 
-    /// This key with `values` (sizes, indices) added.
-    pub(crate) fn with(mut self, values: &[usize]) -> Self {
+    /// This key with `values` (sizes, indices, index pairs) added.
+    pub(crate) fn with<H: Hash + ?Sized>(mut self, values: &H) -> Self {
         values.hash(&mut self.0);
         self
     }
