@@ -49,6 +49,7 @@ mod impact;
 mod init;
 mod measures;
 mod model;
+mod pool;
 mod record;
 mod reduced;
 mod schemes;

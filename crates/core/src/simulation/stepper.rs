@@ -19,6 +19,7 @@
 //!   [`Simulation::nodal_stress`]. A step computes none of the stresses; they cost a pass over every
 //!   element node and are made only when asked for.
 
+use super::pool::on_pool;
 use super::{Clock, Simulation, StepRecord};
 use crate::constraint::Hinge;
 use crate::post::NodalStress;
@@ -40,15 +41,6 @@ pub struct Energies {
     /// Work done by the torque since the start (not part of `total`: `total − total(0)` equals it up
     /// to the integrator's energy error).
     pub torque_work: f64,
-}
-
-/// Runs `f` on a thread of the pool that computes the elements (rayon's), handing it there from
-/// any other thread for its duration (see [`Simulation::step_with`]).
-fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
-    if rayon::current_thread_index().is_some() {
-        return f();
-    }
-    rayon::scope(|_| f())
 }
 
 impl Simulation {
