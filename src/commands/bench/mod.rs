@@ -239,7 +239,8 @@ pub fn bench_scaling(cfg: &Config, steps: usize, largest: usize) -> Result<(), E
         let f = factor_for_unknowns(cfg, target)?;
         let c = scaled_config(cfg, f);
         let t0 = Instant::now();
-        let m = mesh::generate(&c)?;
+        // the mesher itself, not a mesh kept on disk
+        let m = mesh::generate_with_stats(&c)?.0;
         let t_mesh = t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
         let mut sim = Simulation::from_config(&c, m)?;

@@ -47,7 +47,8 @@ pub struct MeshStats {
 }
 
 /// Meshes the pendulum described by `cfg`, or reads `mesh.file` when it is set
-/// ([`crate::mesh::gmsh_read`]).
+/// ([`crate::mesh::gmsh_read`]). A generated mesh is kept for the process (the last one) and on
+/// disk ([`crate::mesh::cache`]), and taken from there when `[geometry]` and `[mesh]` are the same.
 pub fn generate(cfg: &Config) -> Result<Mesh, Error> {
     if let Some(file) = &cfg.mesh.file {
         return crate::mesh::gmsh_read::read_msh(file).map_err(|e| match e {
@@ -62,7 +63,15 @@ pub fn generate(cfg: &Config) -> Result<Mesh, Error> {
             return Ok(mesh.clone());
         }
     }
-    let mesh = generate_with_stats(cfg)?.0;
+    // from the disk, or meshed and kept there (crate::mesh::cache)
+    let mesh = match super::cache::load(cfg) {
+        Some(mesh) => mesh,
+        None => {
+            let mesh = generate_with_stats(cfg)?.0;
+            super::cache::store(cfg, &mesh);
+            mesh
+        }
+    };
     *last() = Some((key, mesh.clone()));
     Ok(mesh)
 }

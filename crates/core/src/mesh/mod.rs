@@ -17,6 +17,7 @@
 
 pub mod bench;
 pub mod block;
+pub mod cache;
 pub mod generate;
 pub mod gmsh_read;
 mod measure;
