@@ -294,3 +294,35 @@ fn a_held_torque_changed_during_the_run_does_work_that_balances_the_energy() {
     let defect = (e.total - e0 - e.torque_work).abs();
     assert!(defect < 1e-9, "E − E₀ − W = {defect:e} J");
 }
+
+/// θ and the total energy after each of 100 steps of 1 ms, as IEEE bits.
+fn trajectory(cfg: &Config) -> Vec<[u64; 2]> {
+    let mut sim = tutorial_sim(cfg);
+    (0..100)
+        .map(|_| {
+            sim.step(1e-3).expect("step");
+            [sim.theta().to_bits(), sim.energies().total.to_bits()]
+        })
+        .collect()
+}
+
+/// Simulations stepped at the same time from several threads (a threaded scheduler's tasks: each
+/// step hands itself to the one shared pool, whose idle threads spin for a step only while it is
+/// the only one in flight) give each one's results alone, bit for bit.
+#[test]
+fn simulations_stepped_from_several_threads_at_once_give_their_results_alone() {
+    let configs: Vec<Config> = [20.0, 45.0, 70.0]
+        .iter()
+        .map(|&angle| {
+            let mut c = Config::default();
+            c.initial.angle_deg = angle;
+            c
+        })
+        .collect();
+    let alone: Vec<_> = configs.iter().map(trajectory).collect();
+    let together: Vec<_> = std::thread::scope(|s| {
+        let handles: Vec<_> = configs.iter().map(|c| s.spawn(move || trajectory(c))).collect();
+        handles.into_iter().map(|h| h.join().expect("thread")).collect()
+    });
+    assert_eq!(together, alone);
+}
