@@ -17,7 +17,7 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 #[test]
-fn a_generated_mesh_is_kept_on_disk_read_back_exactly_and_a_damaged_file_is_meshed_anew() {
+fn a_generated_mesh_is_kept_on_disk_read_back_exactly_and_a_damaged_file_or_a_refused_configuration_is_not_served() {
     let dir = scratch("library");
     let cfg = Config::default();
     let made = mesh::generate_with_stats(&cfg).expect("mesh").0;
@@ -33,6 +33,18 @@ fn a_generated_mesh_is_kept_on_disk_read_back_exactly_and_a_damaged_file_is_mesh
         mesh::forget_last();
         assert_eq!(mesh::generate(&cfg).expect("mesh"), made, "meshed anew");
         assert_eq!(std::fs::read(&path).expect("file"), kept, "and the file replaced");
+        // a configuration the mesher refuses gets its error with a mesh on disk, also one whose
+        // sections JSON would write as the default's (an infinite size is `null` there, as an
+        // absent one)
+        let mut refused = cfg.clone();
+        refused.mesh.hinge_edge_size = Some(f64::INFINITY);
+        match mesh::generate(&refused) {
+            Err(pendulum_fem::Error::Geometry(m)) => assert!(m.contains("mesh.hinge_edge_size"), "{m}"),
+            other => panic!(
+                "expected the geometry error, got {:?}",
+                other.map(|m| m.triangles.len())
+            ),
+        }
     });
     // with the disk off nothing is written
     let off = scratch("off");

@@ -29,10 +29,17 @@ const MAGIC: &[u8; 8] = b"PFEMMESH";
 /// Version of the file's format.
 const VERSION: u32 = 1;
 
-/// The key of the mesh that `config` generates (see the module doc).
+/// The key of the mesh that `config` generates (see the module doc). The sections are hashed in
+/// their `Debug` form, which writes every number so that it reads back exactly, and tells an
+/// infinite or NaN value from an absent one (JSON writes all three as `null`: a hinge edge size
+/// of `+∞`, which the mesher refuses, had the key of the default size).
 pub fn key(config: &Config) -> u64 {
-    let sections = serde_json::json!({ "geometry": config.geometry, "mesh": config.mesh });
-    let text = format!("mesh/{VERSION}/{}/{sections}", env!("PENDULUM_FEM_SOURCE_HASH"));
+    let text = format!(
+        "mesh/{VERSION}/{}/{:?}/{:?}",
+        env!("PENDULUM_FEM_SOURCE_HASH"),
+        config.geometry,
+        config.mesh
+    );
     fnv1a(text.as_bytes())
 }
 
@@ -201,5 +208,9 @@ mod tests {
         let mut other = cfg.clone();
         other.mesh.refine = 2.0;
         assert_ne!(super::key(&other), key, "the key follows the [mesh] section");
+        // an infinite size is not the absent one (JSON writes both as null)
+        let mut infinite = cfg.clone();
+        infinite.mesh.hinge_edge_size = Some(f64::INFINITY);
+        assert_ne!(super::key(&infinite), key);
     }
 }

@@ -63,7 +63,9 @@ pub fn generate(cfg: &Config) -> Result<Mesh, Error> {
             return Ok(mesh.clone());
         }
     }
-    // from the disk, or meshed and kept there (crate::mesh::cache)
+    // from the disk, or meshed and kept there (crate::mesh::cache); a configuration that could not
+    // be meshed gets its error, whatever the disk holds
+    checked_shape(cfg)?;
     let mesh = match super::cache::load(cfg) {
         Some(mesh) => mesh,
         None => {
@@ -124,13 +126,20 @@ pub fn max_size_warning(cfg: &Config, mesh: &Mesh) -> Option<String> {
 
 /// Meshes the pendulum and reports counts of the intermediate steps.
 pub fn generate_with_stats(cfg: &Config) -> Result<(Mesh, MeshStats), Error> {
+    let (shape, sizes) = checked_shape(cfg)?;
+    mesh_shape(&shape, sizes.max_size, sizes.grading, cfg.mesh.order)
+}
+
+/// The pendulum's shape and mesh sizes, after the checks of every `[geometry]` and `[mesh]` value
+/// (each error names its field and the allowed range).
+fn checked_shape(cfg: &Config) -> Result<(Shape, crate::config::MeshSizes), Error> {
     let order = cfg.mesh.order;
     if order != 1 && order != 2 {
         return Err(Error::Mesh(format!("mesh.order = {order}: allowed 1 or 2")));
     }
     let sizes = cfg.mesh_sizes();
     let shape = geometry::pendulum(&cfg.geometry, &sizes)?;
-    mesh_shape(&shape, sizes.max_size, sizes.grading, order)
+    Ok((shape, sizes))
 }
 
 /// Meshes any [`Shape`] with the size field of its sources, capped at `max_size`.
