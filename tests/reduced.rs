@@ -486,9 +486,17 @@ fn a_second_reduced_run_reads_its_set_up_from_the_disk_cache_and_writes_the_same
         (std::fs::read(dir.join("results.csv")).unwrap(), dir)
     };
     let run_cached = |name: &str| run_in(&cache, name, &[]);
+    // the bodies' files (the folder keeps the run's mesh too, `mesh-<key>.bin`)
     let files = || -> Vec<PathBuf> {
         std::fs::read_dir(&cache)
-            .map(|d| d.map(|e| e.unwrap().path()).collect())
+            .map(|d| {
+                d.map(|e| e.unwrap().path())
+                    .filter(|p| {
+                        p.file_name()
+                            .is_some_and(|n| n.to_string_lossy().starts_with("reduced-"))
+                    })
+                    .collect()
+            })
             .unwrap_or_default()
     };
     let (first, a) = run_cached("cache-first");
