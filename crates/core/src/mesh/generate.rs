@@ -65,11 +65,11 @@ pub fn generate(cfg: &Config) -> Result<Mesh, Error> {
     }
     // from the disk, or meshed and kept there (crate::mesh::cache); a configuration that could not
     // be meshed gets its error, whatever the disk holds
-    checked_shape(cfg)?;
+    let (shape, sizes) = checked_shape(cfg)?;
     let mesh = match super::cache::load(cfg) {
         Some(mesh) => mesh,
         None => {
-            let mesh = generate_with_stats(cfg)?.0;
+            let mesh = mesh_shape(&shape, sizes.max_size, sizes.grading, cfg.mesh.order)?.0;
             super::cache::store(cfg, &mesh);
             mesh
         }

@@ -84,6 +84,9 @@ impl Reader<'_> {
     pub(crate) fn u8(&mut self, what: &str) -> Result<u8, Error> {
         Ok(self.take(1, what)?[0])
     }
+    pub(crate) fn u32(&mut self, what: &str) -> Result<u32, Error> {
+        Ok(u32::from_le_bytes(self.take(4, what)?.try_into().expect("4 bytes")))
+    }
     pub(crate) fn u64(&mut self, what: &str) -> Result<u64, Error> {
         Ok(u64::from_le_bytes(self.take(8, what)?.try_into().expect("8 bytes")))
     }
@@ -109,14 +112,20 @@ impl Reader<'_> {
     pub(crate) fn opt_f64(&mut self, what: &str) -> Result<Option<f64>, Error> {
         Ok(if self.flag(what)? { Some(self.f64(what)?) } else { None })
     }
-    pub(crate) fn vec(&mut self, what: &str) -> Result<Vec<f64>, Error> {
+    /// A count of items of `size` bytes each, checked against the bytes left before anything is
+    /// allocated for them.
+    pub(crate) fn count(&mut self, what: &str, size: usize) -> Result<usize, Error> {
         let n = self.usize(what)?;
-        if n > (self.bytes.len() - self.pos) / 8 {
+        if n > (self.bytes.len() - self.pos) / size.max(1) {
             return Err(Error::Input(format!(
                 "{}: truncated snapshot: {what} of {n} values at byte {}",
                 self.source, self.pos
             )));
         }
+        Ok(n)
+    }
+    pub(crate) fn vec(&mut self, what: &str) -> Result<Vec<f64>, Error> {
+        let n = self.count(what, 8)?;
         let bytes = self.take(8 * n, what)?;
         Ok(bytes
             .chunks_exact(8)
