@@ -14,6 +14,7 @@ use pendulum_fem::config::{commented_default, Config};
 use pendulum_fem::mesh::gmsh_read::parse_msh;
 use pendulum_fem::render::gmsh::write_msh_to;
 use pendulum_fem::simulation::{Simulation, Snapshot};
+use pendulum_fem::store::fnv1a;
 use pendulum_fem::terms::TorqueTable;
 use proptest::prelude::*;
 
@@ -44,14 +45,6 @@ fn valid_snapshot() -> &'static (Config, Vec<u8>) {
             sim.step(cfg.time.dt).unwrap();
         }
         (cfg, sim.snapshot().to_bytes())
-    })
-}
-
-/// 64-bit FNV-1a, the snapshot's checksum (so that a mutation can be given a valid one and reach
-/// the parser behind the checksum).
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
     })
 }
 

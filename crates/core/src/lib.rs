@@ -71,5 +71,7 @@ pub mod newton;
 pub mod post;
 pub mod quadrature;
 pub mod reduced;
+pub mod rigid;
 pub mod simulation;
+pub mod store;
 pub mod terms;

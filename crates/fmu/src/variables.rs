@@ -10,7 +10,6 @@
 mod xml;
 mod xml3;
 
-pub(crate) use xml::fnv1a;
 pub use xml::{guid, model_description};
 pub use xml3::model_description_fmi3;
 

@@ -41,7 +41,6 @@
 
 pub(crate) mod bytes;
 mod fingerprint;
-pub(crate) mod fnv;
 
 pub use bytes::SNAPSHOT_VERSION;
 pub use fingerprint::{fingerprint, Fingerprint};
@@ -53,8 +52,8 @@ use super::impact::{ContactPhase, ImpactTrail};
 use super::{Clock, ContactEvent, Simulation};
 use crate::newmark::State;
 use crate::newton::FactorState;
-use crate::post::Unwrap;
 use crate::reduced::ReducedState;
+use crate::rigid::Unwrap;
 use crate::Error;
 
 /// The complete state of a [`Simulation`] (see the module doc).

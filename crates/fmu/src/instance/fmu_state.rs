@@ -35,7 +35,7 @@ const STATE_HEAD: usize = 8 + 8 + 1 + 8 + 8;
 
 /// 64-bit FNV-1a, the checksum of a serialized FMU state.
 fn checksum(bytes: &[u8]) -> u64 {
-    crate::variables::fnv1a(bytes, 0xcbf2_9ce4_8422_2325)
+    pendulum_fem_core::store::fnv1a(bytes)
 }
 
 impl FmuState {

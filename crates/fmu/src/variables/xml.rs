@@ -4,6 +4,7 @@
 use std::fmt::Write as _;
 
 use super::{Causality, Kind, Output, Role, Variable, MODEL_IDENTIFIER, VARIABLES};
+use pendulum_fem_core::store::hash::{fnv1a, fnv1a_from};
 
 /// SI base-unit exponents `(kg, m, s, rad)` of the units the table uses.
 fn base_units(unit: &str) -> [i32; 4] {
@@ -152,8 +153,8 @@ pub(super) fn escape(s: &str) -> String {
 /// a new GUID, and an FMU binary refuses a model description of another table.
 pub fn guid() -> String {
     let text = body();
-    let h1 = fnv1a(text.as_bytes(), 0xcbf2_9ce4_8422_2325);
-    let h2 = fnv1a(text.as_bytes(), h1);
+    let h1 = fnv1a(text.as_bytes());
+    let h2 = fnv1a_from(text.as_bytes(), h1);
     format!(
         "{{{:08x}-{:04x}-{:04x}-{:04x}-{:012x}}}",
         h1 >> 32,
@@ -162,14 +163,6 @@ pub fn guid() -> String {
         h2 >> 48,
         h2 & 0xffff_ffff_ffff
     )
-}
-
-/// 64-bit FNV-1a of `bytes` continued from `seed` (the offset basis `0xcbf2_9ce4_8422_2325` starts
-/// a new hash).
-pub(crate) fn fnv1a(bytes: &[u8], seed: u64) -> u64 {
-    bytes
-        .iter()
-        .fold(seed, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3))
 }
 
 /// The complete `modelDescription.xml`.

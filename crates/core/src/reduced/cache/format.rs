@@ -18,7 +18,7 @@ use std::io::Read;
 
 use super::super::{ArcPoint, ProxyModes, ReducedBody, StressModes};
 use super::CACHE_VERSION;
-use crate::simulation::snapshot::bytes::Writer;
+use crate::store::bytes::Writer;
 use crate::Error;
 
 const MAGIC: &[u8; 8] = b"PFEMREDU";
@@ -26,8 +26,8 @@ const MAGIC: &[u8; 8] = b"PFEMREDU";
 /// Bytes read (and checksummed) at a time into a vector.
 const PIECE: usize = 1 << 16;
 
-const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
-const FNV_PRIME: u64 = 0x0000_0100_0000_01b3;
+const FNV_OFFSET: u64 = crate::store::Fnv::OFFSET;
+const FNV_PRIME: u64 = crate::store::Fnv::PRIME;
 
 fn step(h: u64, word: u64) -> u64 {
     (h ^ word).wrapping_mul(FNV_PRIME)

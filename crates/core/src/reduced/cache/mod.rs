@@ -13,8 +13,7 @@
 //! rounding (1e-14 relative): with the term's presence in the key, a run's results never depend
 //! on which run filled the cache.
 //!
-//! **On disk** in `$PENDULUM_FEM_CACHE` if set (`off` turns the disk off), else
-//! `$XDG_CACHE_HOME/pendulum-fem` or `~/.cache/pendulum-fem`: one file `reduced-<key>.bin` per body,
+//! **On disk** in the cache folder ([`crate::store::cache_folder`]): one file `reduced-<key>.bin` per body,
 //! the body's values as IEEE bits behind a magic, the format version and the key, with a trailing
 //! checksum ([`format`]). A file that does not read back whole (damaged, truncated, another key)
 //! is rebuilt and replaced; a folder that cannot be written costs the set-up, nothing else. A file
@@ -27,8 +26,8 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use super::ReducedBody;
-use crate::simulation::snapshot::fnv::fnv1a;
 use crate::simulation::Model;
+use crate::store::{cache_folder, fnv1a, write_bytes_atomically};
 use crate::Error;
 
 mod format;
@@ -68,9 +67,6 @@ pub fn key_of(config: &crate::Config, mesh: u64, torque: bool) -> u64 {
     fnv1a(text.as_bytes())
 }
 
-/// A folder that [`folder`] answers instead of the environment's, for [`with_folder`].
-static FOLDER: Mutex<Option<Option<PathBuf>>> = Mutex::new(None);
-
 /// Runs `f` with the disk cache in `dir` (`None`: off) and this process's memory of bodies emptied
 /// first, as a fresh process with `PENDULUM_FEM_CACHE = dir` would (`pendulum-fem bench reduced`
 /// times a set-up from nothing this way).
@@ -78,28 +74,7 @@ pub fn with_folder<R>(dir: Option<PathBuf>, f: impl FnOnce() -> R) -> R {
     if let Ok(mut m) = memory().lock() {
         m.clear();
     }
-    let before = FOLDER.lock().map(|mut g| g.replace(dir)).unwrap_or(None);
-    let out = f();
-    if let Ok(mut g) = FOLDER.lock() {
-        *g = before;
-    }
-    out
-}
-
-/// The cache folder on disk, `None` when turned off (see the module doc).
-pub fn folder() -> Option<PathBuf> {
-    if let Some(dir) = FOLDER.lock().ok().and_then(|g| g.clone()) {
-        return dir;
-    }
-    match std::env::var_os("PENDULUM_FEM_CACHE") {
-        Some(v) if v == "off" => None,
-        Some(v) if !v.is_empty() => Some(PathBuf::from(v)),
-        _ => std::env::var_os("XDG_CACHE_HOME")
-            .filter(|v| !v.is_empty())
-            .map(PathBuf::from)
-            .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
-            .map(|d| d.join("pendulum-fem")),
-    }
+    crate::store::files::with_cache_folder(dir, f)
 }
 
 /// The file of the body with `key` in `dir`.
@@ -133,7 +108,7 @@ pub fn stored(key: u64) -> Option<Arc<ReducedBody>> {
     if let Some(body) = memory().lock().ok().and_then(|m| m.get(&key).cloned()) {
         return Some(body);
     }
-    let body = Arc::new(from_file(&file(&folder()?, key), key).ok()?);
+    let body = Arc::new(from_file(&file(&cache_folder()?, key), key).ok()?);
     if let Ok(mut m) = memory().lock() {
         m.insert(key, body.clone());
     }
@@ -165,36 +140,18 @@ pub fn build_and_keep(
     if let Ok(mut m) = memory().lock() {
         m.insert(key, body.clone());
     }
-    let write = folder().map(|dir| {
+    let write = cache_folder().map(|dir| {
         let (path, kept) = (file(&dir, key), body.clone());
         // a cache that cannot be written costs the next run its set-up, nothing else; a thread
         // that cannot be started leaves the file unwritten
         std::thread::Builder::new()
             .name("reduced-cache-write".into())
             .spawn(move || {
-                let _ = write_atomically(&path, &to_bytes(&kept, key));
+                let _ = write_bytes_atomically(&path, &to_bytes(&kept, key));
             })
             .ok()
     });
     Ok((body, PendingWrite(write.flatten())))
-}
-
-pub(crate) fn write_atomically(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)?;
-    }
-    let nanos = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.subsec_nanos());
-    let partial = path.with_extension(format!(
-        "{}-{:?}-{nanos}.partial",
-        std::process::id(),
-        std::thread::current().id()
-    ));
-    std::fs::write(&partial, bytes)?;
-    std::fs::rename(&partial, path).inspect_err(|_| {
-        let _ = std::fs::remove_file(&partial);
-    })
 }
 
 #[cfg(test)]

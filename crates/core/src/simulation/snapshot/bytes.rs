@@ -6,12 +6,13 @@ use std::sync::Arc;
 
 use super::super::impact::{ContactPhase, ImpactTrail};
 use super::super::{Clock, ContactEvent, ContactEventKind};
-use super::fnv::fnv1a;
 use super::{Fingerprint, Snapshot};
 use crate::newmark::State;
 use crate::newton::FactorState;
 use crate::reduced::step::Factor;
 use crate::reduced::ReducedState;
+use crate::store::bytes::{Reader, Writer};
+use crate::store::fnv1a;
 use crate::Error;
 
 /// Version of the byte format of [`Snapshot::to_bytes`] (3: the fingerprint in three parts, without
@@ -20,119 +21,6 @@ use crate::Error;
 pub const SNAPSHOT_VERSION: u32 = 6;
 
 const MAGIC: &[u8; 8] = b"PFEMSNAP";
-
-/// A little-endian byte writer (the snapshot's, and the reduced body's cache file's).
-pub(crate) struct Writer(pub(crate) Vec<u8>);
-
-impl Writer {
-    pub(crate) fn u8(&mut self, x: u8) {
-        self.0.push(x);
-    }
-    pub(crate) fn u32(&mut self, x: u32) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    pub(crate) fn u64(&mut self, x: u64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    pub(crate) fn usize(&mut self, x: usize) {
-        self.u64(x as u64);
-    }
-    pub(crate) fn f64(&mut self, x: f64) {
-        self.u64(x.to_bits());
-    }
-    pub(crate) fn opt_f64(&mut self, x: Option<f64>) {
-        match x {
-            Some(v) => {
-                self.u8(1);
-                self.f64(v);
-            }
-            None => self.u8(0),
-        }
-    }
-    pub(crate) fn vec(&mut self, v: &[f64]) {
-        self.usize(v.len());
-        if cfg!(target_endian = "little") {
-            // the values' bits are already their little-endian bytes
-            self.0.extend_from_slice(bytemuck::cast_slice(v));
-        } else {
-            v.iter().for_each(|&x| self.f64(x));
-        }
-    }
-}
-
-/// The bounds-checked reader of [`Writer`]'s bytes; `source` names them in errors.
-pub(crate) struct Reader<'a> {
-    pub(crate) bytes: &'a [u8],
-    pub(crate) pos: usize,
-    pub(crate) source: &'a str,
-}
-
-impl Reader<'_> {
-    pub(crate) fn take(&mut self, n: usize, what: &str) -> Result<&[u8], Error> {
-        if self.bytes.len() - self.pos < n {
-            return Err(Error::Input(format!(
-                "{}: truncated snapshot: {what} at byte {} needs {n} bytes, {} remain",
-                self.source,
-                self.pos,
-                self.bytes.len() - self.pos
-            )));
-        }
-        let s = &self.bytes[self.pos..self.pos + n];
-        self.pos += n;
-        Ok(s)
-    }
-    pub(crate) fn u8(&mut self, what: &str) -> Result<u8, Error> {
-        Ok(self.take(1, what)?[0])
-    }
-    pub(crate) fn u32(&mut self, what: &str) -> Result<u32, Error> {
-        Ok(u32::from_le_bytes(self.take(4, what)?.try_into().expect("4 bytes")))
-    }
-    pub(crate) fn u64(&mut self, what: &str) -> Result<u64, Error> {
-        Ok(u64::from_le_bytes(self.take(8, what)?.try_into().expect("8 bytes")))
-    }
-    pub(crate) fn usize(&mut self, what: &str) -> Result<usize, Error> {
-        let at = self.pos;
-        let x = self.u64(what)?;
-        usize::try_from(x).map_err(|_| Error::Input(format!("{}: {what} at byte {at}: {x} is too large", self.source)))
-    }
-    pub(crate) fn f64(&mut self, what: &str) -> Result<f64, Error> {
-        Ok(f64::from_bits(self.u64(what)?))
-    }
-    pub(crate) fn flag(&mut self, what: &str) -> Result<bool, Error> {
-        let at = self.pos;
-        match self.u8(what)? {
-            0 => Ok(false),
-            1 => Ok(true),
-            b => Err(Error::Input(format!(
-                "{}: {what} at byte {at}: option flag {b}, allowed 0 or 1",
-                self.source
-            ))),
-        }
-    }
-    pub(crate) fn opt_f64(&mut self, what: &str) -> Result<Option<f64>, Error> {
-        Ok(if self.flag(what)? { Some(self.f64(what)?) } else { None })
-    }
-    /// A count of items of `size` bytes each, checked against the bytes left before anything is
-    /// allocated for them.
-    pub(crate) fn count(&mut self, what: &str, size: usize) -> Result<usize, Error> {
-        let n = self.usize(what)?;
-        if n > (self.bytes.len() - self.pos) / size.max(1) {
-            return Err(Error::Input(format!(
-                "{}: truncated snapshot: {what} of {n} values at byte {}",
-                self.source, self.pos
-            )));
-        }
-        Ok(n)
-    }
-    pub(crate) fn vec(&mut self, what: &str) -> Result<Vec<f64>, Error> {
-        let n = self.count(what, 8)?;
-        let bytes = self.take(8 * n, what)?;
-        Ok(bytes
-            .chunks_exact(8)
-            .map(|b| f64::from_bits(u64::from_le_bytes(b.try_into().expect("8 bytes"))))
-            .collect())
-    }
-}
 
 impl Snapshot {
     /// The snapshot as bytes (format in the module doc).

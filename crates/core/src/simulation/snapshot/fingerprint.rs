@@ -1,8 +1,8 @@
 //! The model fingerprint: what a model is made of (configuration values, mesh, torque table) as
 //! three FNV-1a hashes, how two fingerprints differ in words, and its display.
 
-use super::fnv::{fnv1a, Fnv};
 use crate::config::Config;
+use crate::store::{fnv1a, Fnv};
 use crate::terms::torque::TorqueTable;
 use crate::Mesh;
 

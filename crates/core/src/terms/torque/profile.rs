@@ -30,36 +30,22 @@ impl TorqueTable {
         Self::parse(&text, &path.display().to_string())
     }
 
-    /// Parses the text of a table; `source` names the file in error messages.
+    /// Parses the text of a table ([`crate::store::Table`]'s rules); `source` names the file in
+    /// error messages.
     pub fn parse(text: &str, source: &str) -> Result<Self, Error> {
         let err = |line: usize, msg: String| Error::Input(format!("{source}:{line}: {msg}"));
-        let mut lines = text
-            .lines()
-            .enumerate()
-            .map(|(i, l)| (i + 1, l.trim()))
-            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-        let (no, header) = lines.next().ok_or_else(|| {
-            Error::Input(format!(
-                "{source}: empty torque table (expected the header time_s,torque_Nm)"
-            ))
-        })?;
-        let names: Vec<&str> = header.split(',').map(str::trim).collect();
-        if names != ["time_s", "torque_Nm"] {
-            return Err(err(no, format!("header `{header}`: expected `time_s,torque_Nm`")));
+        let table = crate::store::Table::parse(text, source)?;
+        if table.names != ["time_s", "torque_Nm"] {
+            let header = table.names.join(",");
+            return Err(Error::Input(format!(
+                "{source}: header `{header}`: expected `time_s,torque_Nm`"
+            )));
         }
         let (mut times, mut torques) = (Vec::new(), Vec::new());
-        for (no, line) in lines {
-            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-            if fields.len() != 2 {
-                return Err(err(no, format!("`{line}`: expected two values time_s,torque_Nm")));
-            }
-            let mut v = [0.0; 2];
-            for (k, f) in fields.iter().enumerate() {
-                v[k] = f
-                    .parse::<f64>()
-                    .ok()
-                    .filter(|x| x.is_finite())
-                    .ok_or_else(|| err(no, format!("`{f}` is not a finite number")))?;
+        for (row, &no) in table.rows.iter().zip(&table.lines) {
+            let v = [row[0], row[1]];
+            if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+                return Err(err(no, format!("`{x}` is not a finite number")));
             }
             if let Some(&last) = times.last() {
                 if v[0] <= last {
