@@ -198,7 +198,7 @@ fn hub_angle_is_exact_for_rigid_rotations_and_continuous_through_180_degrees() {
 
 #[test]
 fn the_proxy_angle_stays_continuous_at_a_third_of_a_radian_per_step() {
-    use pendulum_fem::post::{RigidProjection, Unwrap};
+    use pendulum_fem::rigid::{RigidProjection, Unwrap};
     let mesh = common::hanging_rectangle(0.015, 0.1, 2, 4);
     let proj = RigidProjection::new(&mesh);
     let deform = wiggle(2 * mesh.num_nodes(), 1e-4);

@@ -38,7 +38,6 @@ mod settings;
 mod solve;
 
 pub use factor::FactorState;
-pub use saddle::wrap_angle;
 pub use settings::{NewtonReport, NewtonSettings, Timings};
 
 /// Workspace of the constrained Newton solver: the pattern, the factorisation and buffers, all

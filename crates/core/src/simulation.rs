@@ -39,7 +39,7 @@
 use crate::linsolve::Cholesky;
 use crate::newmark::State;
 use crate::newton::Solver;
-use crate::post::Unwrap;
+use crate::rigid::Unwrap;
 #[cfg(doc)]
 use crate::Error;
 
@@ -61,6 +61,7 @@ mod substep;
 
 pub use body::{Body, BodySpec};
 pub use impact::{ContactEvent, ContactEventKind};
+pub use init::Built;
 pub use model::{Model, CONTACT_BOUNDARY, HINGE_BOUNDARY};
 pub use record::{ContactRecord, Frame, FrameData, StepRecord};
 pub use shared::forget_shared;

@@ -2,10 +2,10 @@
 //! hinge, with the reuse of a factorisation made in an earlier frame.
 
 use super::evaluate::residual_norm_of;
-use super::saddle::wrap_angle;
 use super::{NewtonReport, NewtonSettings, Solver, REFACTOR_CONTRACTION};
 use crate::assembly::Pattern;
 use crate::error::NewtonError;
+use crate::rigid::wrap_angle;
 use crate::terms::{StepContext, Term};
 
 impl Solver {

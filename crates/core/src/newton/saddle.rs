@@ -3,11 +3,6 @@
 
 use super::Solver;
 
-/// `angle` wrapped into `[−π, π]` (the representative closest to 0, [`crate::post::unwrap_near`]).
-pub fn wrap_angle(angle: f64) -> f64 {
-    crate::post::unwrap_near(angle, 0.0)
-}
-
 /// Rotates every `(x, y)` pair of `v` by `angle`.
 fn rotate_pairs(v: &mut [f64], angle: f64) {
     let (s, c) = angle.sin_cos();

@@ -3,7 +3,6 @@
 //! balance criterion and the GMRES correction of slow iterations.
 
 use super::evaluate::residual_norm_of;
-use super::saddle::wrap_angle;
 use super::{
     NewtonReport, NewtonSettings, Solver, REFACTOR_CONTRACTION, REUSE_HORIZON, SLOW_CONTRACTION, STALLED_ENERGY,
     WATCHDOG_STEPS,
@@ -12,6 +11,7 @@ use super::{
 use super::{KRYLOV_DIMENSION, KRYLOV_TOLERANCE};
 use crate::assembly::Pattern;
 use crate::error::NewtonError;
+use crate::rigid::wrap_angle;
 use crate::terms::{StepContext, Term};
 
 /// The best iterate of a solve (the smallest residual) and where the watchdog stands.

@@ -133,11 +133,7 @@ pub struct ReducedState {
     pub jacobian: Option<step::Factor>,
 }
 
-/// `(R(θ) y)` for `y = (y_x, y_y)`.
-pub(crate) fn rotate(theta: f64, y: [f64; 2]) -> [f64; 2] {
-    let (s, c) = theta.sin_cos();
-    [c * y[0] - s * y[1], s * y[0] + c * y[1]]
-}
+pub(crate) use crate::rigid::rotate;
 
 impl ReducedBody {
     /// Number of modes.

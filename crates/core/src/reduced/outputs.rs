@@ -1,6 +1,6 @@
 //! What a reduced body reports, from its coordinates alone (no field of the full model):
 //!
-//! * the proxy angle of the full model ([`crate::post::RigidProjection`]): with
+//! * the proxy angle of the full model ([`crate::rigid::RigidProjection`]): with
 //!   `x = R(θ)(X + Φq)`, `∫ X̄ x = e^{iθ} (P + c·q + i s·q)` (complex notation, `P = ∫|X|² dA`,
 //!   `c_k`, `s_k` the projection's functionals of mode `k`), so `θ_proxy = θ + atan2(s·q, P + c·q)`;
 //! * the best-fit rates as the full model defines them: `ω = L / I(q)` (`L = p_θ`) and

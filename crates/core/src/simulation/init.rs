@@ -5,7 +5,7 @@
 use super::{impact, Clock, Model, Simulation, RESIDUAL_TOLERANCE};
 use crate::config::{Config, InitialElastic};
 use crate::newton::{NewtonSettings, Solver};
-use crate::post::Unwrap;
+use crate::rigid::Unwrap;
 use crate::terms::{Inertia, Linear, StepContext, Term};
 use crate::{Error, Mesh};
 
@@ -162,4 +162,33 @@ impl Simulation {
     pub fn from_config(config: &Config, mesh: Mesh) -> Result<Self, Error> {
         Self::new(Model::new(config, mesh)?)
     }
+
+    /// Builds the simulation of `config` on its own mesh (generated, or read from `mesh.file`):
+    /// the one set-up of the run driver, the FMU, the Python package and the benchmarks.
+    pub fn build(config: &Config) -> Result<Built, Error> {
+        let start = std::time::Instant::now();
+        let mesh = crate::mesh::generate(config)?;
+        let mesh_warning = crate::mesh::max_size_warning(config, &mesh);
+        let mesh_seconds = start.elapsed().as_secs_f64();
+        let setup = std::time::Instant::now();
+        let simulation = Self::from_config(config, mesh)?;
+        Ok(Built {
+            simulation,
+            mesh_seconds,
+            setup_seconds: setup.elapsed().as_secs_f64(),
+            mesh_warning,
+        })
+    }
+}
+
+/// A simulation built by [`Simulation::build`], with what its set-up took.
+pub struct Built {
+    /// The simulation, at its initial state.
+    pub simulation: Simulation,
+    /// Wall time of the mesh's generation or reading \[s\].
+    pub mesh_seconds: f64,
+    /// Wall time of the model's operators and the initial state \[s\].
+    pub setup_seconds: f64,
+    /// The mesh-size warning ([`crate::mesh::max_size_warning`]), if the mesh is that large.
+    pub mesh_warning: Option<String>,
 }

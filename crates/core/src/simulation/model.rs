@@ -14,8 +14,9 @@ use crate::config::{
 };
 use crate::constraint::Hinge;
 use crate::newmark::{Newmark, State};
-use crate::post::{NodalStress, RigidProjection};
+use crate::post::NodalStress;
 use crate::reduced::{ReducedBody, ReducedWall};
+use crate::rigid::RigidProjection;
 use crate::terms::inertia::{BodyMass, MassMatrix};
 use crate::terms::{StepContext, Term, Torque, WallContact};
 use crate::{Error, Mesh};
@@ -308,6 +309,17 @@ impl Model {
             });
         }
         Ok(model)
+    }
+
+    /// The number of unknowns of a step of the full model: two displacement components per node
+    /// and the hinge's two multipliers.
+    pub fn unknowns(&self) -> usize {
+        Self::unknowns_of(&self.mesh)
+    }
+
+    /// [`Model::unknowns`] of a model on `mesh`, before it is built.
+    pub fn unknowns_of(mesh: &Mesh) -> usize {
+        2 * mesh.num_nodes() + 2
     }
 
     /// The shortest of the bodies' wave times ([`Body::wave_time`]) \[s\]: how far

@@ -225,7 +225,7 @@ impl Simulation {
         })
     }
 
-    /// The proxy angle of the current state, on `(−π, π]` for the full model ([`crate::post::RigidProjection`]) and on the frame's branch for a reduced body \[rad\].
+    /// The proxy angle of the current state, on `(−π, π]` for the full model ([`crate::rigid::RigidProjection`]) and on the frame's branch for a reduced body \[rad\].
     pub(super) fn proxy_angle(&self) -> f64 {
         match (&self.model.reduced, &self.reduced) {
             (Some(body), Some(r)) => body.proxy_angle(r),

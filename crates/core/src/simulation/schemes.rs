@@ -42,7 +42,7 @@ impl Simulation {
         let mut guess = u.clone();
         // the pendulum turns; the other bodies start from where they are
         let pendulum = 0..self.model.bodies[0].nodes.end;
-        crate::post::turn_about_pivot(
+        crate::rigid::turn_about_pivot(
             &self.model.mesh.nodes,
             shaped.as_deref().unwrap_or(u),
             &mut guess,
@@ -95,13 +95,13 @@ impl Simulation {
         let (u, v, a) = (&self.state.u, &self.state.v, &self.state.a);
         let pendulum = 0..m.bodies[0].nodes.end;
         let before: Vec<f64> = (0..u.len()).map(|i| u[i] - h * v[i] + 0.5 * h * h * a[i]).collect();
-        let turn = crate::newton::wrap_angle(m.projection.angle(u) - m.projection.angle(&before));
+        let turn = crate::rigid::wrap_angle(m.projection.angle(u) - m.projection.angle(&before));
         // the positions seen before, turned, node by node into the difference
         let turn = turn.sin_cos();
         let ratio = dt / h;
         let mut shaped = u.clone();
         for n in pendulum {
-            let seen = crate::post::turned(m.mesh.nodes[n], [before[2 * n], before[2 * n + 1]], turn);
+            let seen = crate::rigid::turned(m.mesh.nodes[n], [before[2 * n], before[2 * n + 1]], turn);
             for k in 0..2 {
                 let i = 2 * n + k;
                 shaped[i] += ratio * (u[i] - seen[k]);
@@ -193,7 +193,7 @@ impl Simulation {
             frame_angle,
             matrix_key: EnergyMomentum::inertia_factor(dt) / (1.0 + chi),
             reuse: !fresh_tangent,
-            residual_turn: 0.5 * crate::newton::wrap_angle(frame_angle - m.projection.angle(u0)),
+            residual_turn: 0.5 * crate::rigid::wrap_angle(frame_angle - m.projection.angle(u0)),
         };
         let report = self.solver.solve(
             &m.pattern,

@@ -94,7 +94,7 @@ pub use profile::TorqueTable;
 use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
 use crate::config;
-use crate::post::best_fit_angle;
+use crate::rigid::best_fit_angle;
 use crate::{Error, Mesh};
 
 /// How the torque load acts (`torque.follower`).

@@ -96,7 +96,7 @@ impl WallContact {
     pub fn behind_face(&self, u: &[f64], turn: f64) -> Option<String> {
         let mut turned = u.to_vec();
         let arc = self.points.iter().flat_map(|p| p.nodes);
-        crate::post::turn_about_pivot(&self.reference, u, &mut turned, arc, turn);
+        crate::rigid::turn_about_pivot(&self.reference, u, &mut turned, arc, turn);
         self.arrival(u, &turned)
             .map(|what| format!("turning on by {turn:.4} rad, {what}"))
     }

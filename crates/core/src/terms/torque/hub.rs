@@ -3,7 +3,7 @@
 //! the parent module's doc).
 
 use crate::fe::for_each_edge_point;
-use crate::post::best_fit_angle;
+use crate::rigid::best_fit_angle;
 use crate::{Error, Mesh};
 
 /// The hinge-edge moments of the hub angle (see the module doc).
