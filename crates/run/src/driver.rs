@@ -333,7 +333,7 @@ fn run_steps(
         out_dir: out_dir.clone(),
         mesh_triangles: sim.model.mesh.triangles.len(),
         mesh_nodes: sim.model.mesh.num_nodes(),
-        unknowns: 2 * sim.model.mesh.num_nodes() + 2,
+        unknowns: sim.model.unknowns(),
         theta_range: (f64::INFINITY, f64::NEG_INFINITY),
         ..Default::default()
     };

@@ -218,7 +218,7 @@ pub fn check_ngsolve_inputs(python: &Path, anchor: &Path) -> Result<(), Error> {
 fn factor_for_unknowns(cfg: &Config, target: usize) -> Result<f64, Error> {
     let mut f = 1.0;
     for _ in 0..4 {
-        let n = 2 * mesh::generate(&scaled_config(cfg, f))?.num_nodes() + 2;
+        let n = crate::Model::unknowns_of(&mesh::generate(&scaled_config(cfg, f))?);
         if (n as f64 / target as f64 - 1.0).abs() < 0.05 {
             break;
         }
@@ -250,7 +250,7 @@ pub fn bench_scaling(cfg: &Config, steps: usize, largest: usize) -> Result<(), E
             sim.advance()?;
         }
         let per_step = t2.elapsed().as_secs_f64() / steps as f64;
-        let n = 2 * sim.model.mesh.num_nodes() + 2;
+        let n = sim.model.unknowns();
         println!(
             "{:>10.3} {:>10} {:>12.3} {:>12.3} {:>14.2} {:>12.2} {:>10}",
             f,
