@@ -228,7 +228,7 @@ fn dissipation_removes_strain_energy_and_keeps_the_moment_free() {
 fn the_torque_and_gravity_discrete_work_is_their_exact_work() {
     let mesh = common::hanging_rectangle(0.015, 0.3, 2, 8);
     let n = 2 * mesh.num_nodes();
-    let gravity = Gravity::new(&mesh, 7800.0, 0.01, 9.81);
+    let gravity = Gravity::gravity(&mesh, 7800.0, 0.01, 9.81);
     for mode in [TorqueMode::Follower, TorqueMode::Fixed] {
         let profile = config::Torque {
             profile: Kind::Ramp,
@@ -492,7 +492,7 @@ fn the_acceleration_of_the_frames_is_the_consistent_end_of_step_value() {
     let last = records.last().unwrap();
     let a = sim.acceleration_field();
     let m = &sim.model;
-    let x = m.positions(&sim.state.u);
+    let x = m.positions(sim.displacement());
     let mut ma = vec![0.0; a.len()];
     let mut mx = vec![0.0; a.len()];
     m.mass.apply(&a, &mut ma);

@@ -1,6 +1,7 @@
 //! Newmark as an incremental potential: second order on a linear oscillator, and the presets.
 
-use pendulum_fem::newmark::{Newmark, State};
+use pendulum_fem::model::State;
+use pendulum_fem::scheme::Newmark;
 
 /// Integrates m ü + k u = 0 (m = 1) from u = 1, v = 0 to `t_end` with `steps` steps of `scheme`
 /// with HHT weight `alpha` (0: plain Newmark), minimising the scalar incremental potential

@@ -190,7 +190,7 @@ fn the_largest_von_mises_of_csv_and_summary_is_the_largest_value_of_the_frames_f
         // the nodal field the frames (ParaView, animations, viewer) are made of
         let shown = sim
             .model
-            .nodal_stress(&sim.state.u)
+            .nodal_stress(sim.displacement())
             .von_mises
             .iter()
             .copied()

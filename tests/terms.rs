@@ -65,7 +65,7 @@ fn inertia_and_gravity_gradients_match_finite_differences() {
     };
     let u = wiggle(2 * mesh.num_nodes(), 3e-3);
     check_term(&inertia, &pattern, &u, "inertia");
-    check_term(&Gravity::new(&mesh, 7800.0, 0.01, 9.81), &pattern, &u, "gravity");
+    check_term(&Gravity::gravity(&mesh, 7800.0, 0.01, 9.81), &pattern, &u, "gravity");
 }
 
 #[test]

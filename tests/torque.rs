@@ -530,7 +530,7 @@ fn a_fixed_direction_load_delivers_m_cos_theta() {
     // the moment actually delivered in the final state
     let term = Torque::from_config(&sim.model.mesh, HINGE_BOUNDARY, &cfg.torque).unwrap();
     let last = records.last().unwrap();
-    let moment = term.moment_about_pivot(&sim.state.u, term.value(last.time));
+    let moment = term.moment_about_pivot(sim.displacement(), term.value(last.time));
     let peak = records.iter().map(|r| r.theta).fold(0.0, f64::max).to_degrees();
     let balance = energy_balance(&records);
     println!(

@@ -11,7 +11,7 @@
 //! degrees of freedom `i, j` (`0..12`, node-major, x before y), `scatter[e·144 + 12 i + j]` is the
 //! index in arrays of [`Pattern::nnz`] values, or [`SKIP`] for the lower-triangle half.
 
-use crate::Mesh;
+use crate::mesh::Mesh;
 
 /// `n` zeros written into fresh memory, for arrays that are then summed into in scattered order
 /// (assembly). `vec![0.0; n]` asks the system for zeroed memory, whose pages it maps to one shared
@@ -289,7 +289,7 @@ mod tests {
     #[test]
     fn the_node_by_node_pattern_is_the_entry_by_entry_one() {
         for refine in [1.0, 2.0] {
-            let mut cfg = crate::Config::default();
+            let mut cfg = crate::config::Config::default();
             cfg.mesh.refine = refine;
             let mesh = crate::mesh::generate_with_stats(&cfg).expect("mesh").0;
             let (fast, general) = (Pattern::of_elements(&mesh), Pattern::with_extra(&mesh, &[]));

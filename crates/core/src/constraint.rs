@@ -9,8 +9,9 @@
 //! origin). The two Lagrange multipliers `λ` are forces: stationarity reads `∇Φ + Cᵀλ = 0`, so the
 //! force the hinge exerts on the body is `−λ` \[N\] ([`Hinge::reaction`]).
 
+use crate::error::Error;
 use crate::fe::for_each_edge_point;
-use crate::{Error, Mesh};
+use crate::mesh::Mesh;
 
 /// Mean-displacement hinge on a named boundary.
 #[derive(Clone, Debug)]

@@ -66,6 +66,20 @@ impl Tri6 {
     }
 }
 
+/// The isoparametric Jacobian `J₀ = ∂X/∂ξ` of an element at `ξ` and the basis gradients in ξ.
+pub fn jacobian(x: &[[f64; 2]; 6], xi: [f64; 2]) -> ([[f64; 2]; 2], [[f64; 2]; 6]) {
+    let g = Tri6::basis_gradients(xi);
+    let mut j = [[0.0; 2]; 2];
+    for a in 0..6 {
+        for i in 0..2 {
+            for d in 0..2 {
+                j[i][d] += x[a][i] * g[a][d];
+            }
+        }
+    }
+    (j, g)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

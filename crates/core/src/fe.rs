@@ -9,9 +9,10 @@
 //! A reference element with `det J₀ ≤ 0` at a quadrature point is an error at set-up that names the
 //! element ([`Error::InvertedElement`]), never a NaN later.
 
-use crate::element::Tri6;
+use crate::element::{jacobian, Tri6};
+use crate::error::Error;
+use crate::mesh::Mesh;
 use crate::quadrature::TriangleRule;
-use crate::{Error, Mesh};
 
 /// Per-element, per-quadrature-point reference data.
 #[derive(Clone, Debug)]
@@ -22,20 +23,6 @@ pub struct FeCache {
     pub grads: Vec<[[f64; 2]; 6]>,
     /// `w · det J₀ · thickness` for every (element, point) \[m³\].
     pub weights: Vec<f64>,
-}
-
-/// The isoparametric Jacobian `J₀ = ∂X/∂ξ` of an element at `ξ` and the basis gradients in ξ.
-pub fn jacobian(x: &[[f64; 2]; 6], xi: [f64; 2]) -> ([[f64; 2]; 2], [[f64; 2]; 6]) {
-    let g = Tri6::basis_gradients(xi);
-    let mut j = [[0.0; 2]; 2];
-    for a in 0..6 {
-        for i in 0..2 {
-            for d in 0..2 {
-                j[i][d] += x[a][i] * g[a][d];
-            }
-        }
-    }
-    (j, g)
 }
 
 /// The six node coordinates of element `e`.

@@ -44,7 +44,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use crate::assembly::Pattern;
-use crate::Error;
+use crate::error::Error;
 
 mod split;
 use split::{Buffers, TreeSplit};
@@ -251,7 +251,7 @@ mod tests {
     #[test]
     fn the_split_solve_is_the_plain_one() {
         for refine in [1.0, 2.0] {
-            let mut cfg = crate::Config::default();
+            let mut cfg = crate::config::Config::default();
             cfg.mesh.refine = refine;
             let mesh = crate::mesh::generate_with_stats(&cfg).expect("mesh").0;
             let pattern = Pattern::new(&mesh, &[]);

@@ -26,8 +26,8 @@ use std::sync::Arc;
 
 use crate::assembly::{Dirichlet, Pattern};
 use crate::constraint::Hinge;
+use crate::error::Error;
 use crate::linsolve::Cholesky;
-use crate::Error;
 
 mod evaluate;
 mod factor;

@@ -6,11 +6,12 @@
 //! is the largest element-node value (not averaged).
 
 use crate::element::Tri6;
+use crate::error::Error;
 use crate::fe::FeCache;
 use crate::material::{von_mises, Material};
+use crate::mesh::Mesh;
 use crate::quadrature::TriangleRule;
 use crate::terms::elastic::{deformation_gradient, displacement_gradient};
-use crate::{Error, Mesh};
 
 /// Nodal stresses of a state.
 #[derive(Clone, Debug, Default)]

@@ -20,8 +20,8 @@
 //! matrix (exact for fields in the P2 space; uniform density cancels).
 
 use crate::fe::for_each_point;
+use crate::mesh::Mesh;
 use crate::quadrature::TriangleRule;
-use crate::Mesh;
 
 /// `R(θ) y`: the vector `y` turned by `theta` \[rad\].
 #[inline]
@@ -158,5 +158,47 @@ impl Unwrap {
         };
         self.last = Some(value);
         value
+    }
+}
+
+/// The product rule for differences of a turn from `θ₀` to `θ₁`:
+/// `R₁ − R₀ = Δθ sinc(Δθ/2) R′(θ_m)` and `R̄ = ½(R₀ + R₁) = [rc −rs; rs rc]`, so that
+/// `R₁y₁ − R₀y₀ = Δθ sc R′(θ_m) ȳ + R̄ (y₁ − y₀)` exactly.
+#[derive(Clone, Copy)]
+pub struct Turn {
+    /// `sinc(Δθ/2)`.
+    pub sc: f64,
+    /// `sin θ_m`.
+    pub sm: f64,
+    /// `cos θ_m`.
+    pub cm: f64,
+    /// `R̄`'s `sin` entry.
+    pub rs: f64,
+    /// `R̄`'s `cos` entry.
+    pub rc: f64,
+}
+
+impl Turn {
+    /// The turn from `theta0` to `theta1` \[rad\].
+    pub fn between(theta0: f64, theta1: f64) -> Self {
+        let (sm, cm) = (0.5 * (theta0 + theta1)).sin_cos();
+        let (s0, c0) = theta0.sin_cos();
+        let (s1, c1) = theta1.sin_cos();
+        Self {
+            sc: sinc(0.5 * (theta1 - theta0)),
+            sm,
+            cm,
+            rs: 0.5 * (s0 + s1),
+            rc: 0.5 * (c0 + c1),
+        }
+    }
+}
+
+/// `sin(x)/x`.
+fn sinc(x: f64) -> f64 {
+    if x.abs() < 1e-4 {
+        1.0 - x * x / 6.0
+    } else {
+        x.sin() / x
     }
 }

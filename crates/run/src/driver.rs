@@ -321,7 +321,7 @@ fn run_steps(
             let path = out_dir.join(crate::outdir::names::IMPACTS_CSV);
             Some(match opts.restart && path.is_file() {
                 true => {
-                    cut_rows_after(&path, sim.state.t)?;
+                    cut_rows_after(&path, sim.time())?;
                     CsvWriter::append(&path, &header)?
                 }
                 false => CsvWriter::create(&path, &header)?,
@@ -479,7 +479,7 @@ fn run_steps(
     summary.seconds_outputs = seconds_outputs;
     summary.steps = sim.step;
     summary.error_estimate = sim.error_estimate();
-    summary.time_reached = sim.state.t;
+    summary.time_reached = sim.time();
     summary.newton_iterations = sim.total_iterations;
     summary.factorizations = sim.total_factorizations;
     summary.cutbacks = sim.cutbacks;

@@ -259,7 +259,7 @@ pub fn bench_scaling(cfg: &Config, steps: usize, largest: usize) -> Result<(), E
             t_setup,
             1e3 * per_step,
             sim.total_iterations as f64 / steps as f64,
-            sim.solver.factor_nnz()
+            sim.factor_nnz()
         );
         if let Some((n0, t0)) = previous {
             println!(
@@ -354,7 +354,7 @@ pub fn bench_torque(cfg: &Config, steps: usize, repeats: usize, amplitude: f64) 
             }
             let secs = start.elapsed().as_secs_f64();
             let cpu = cpu_seconds().unwrap_or(f64::NAN) - cpu0;
-            let nnz = sim.solver.factor_nnz();
+            let nnz = sim.factor_nnz();
             let tm = sim.timings();
             if std::env::var_os("PENDULUM_DEBUG").is_some() {
                 eprintln!(

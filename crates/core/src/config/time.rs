@@ -10,7 +10,7 @@ use crate::error::Error;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Scheme {
-    /// The energy-momentum scheme ([`crate::energy_momentum`]): the midpoint rule with a discrete
+    /// The energy-momentum scheme ([`crate::scheme::energy_momentum`]): the midpoint rule with a discrete
     /// gradient; conserves the total energy and the angular momentum about the pivot exactly at any
     /// step size (with `time.dissipation = 0`). The default.
     EnergyMomentum,
@@ -163,7 +163,7 @@ pub struct Solver {
     pub tolerance: f64,
     /// Energy-momentum scheme: largest energy error of one step, relative to the step's energy
     /// scale (kinetic energy + weight × largest radius + π |torque|,
-    /// [`crate::energy_momentum::energy_scale`]). The energy error of a step is exactly
+    /// [`crate::scheme::energy_momentum::energy_scale`]). The energy error of a step is exactly
     /// `½ Δu · r(u₁)`, the work of the remaining residual, so this bounds the drift of a run of `n`
     /// steps by `n ×` this value.
     pub energy_tolerance: f64,

@@ -97,7 +97,7 @@ impl Torque {
 impl super::Config {
     /// This configuration with a torque input declared: `[torque] profile = "constant"`,
     /// `amplitude = 0`, so that the model has a torque term whose value an input holds
-    /// ([`Simulation::set_torque`](crate::Simulation::set_torque)). The one declaration for the
+    /// ([`Simulation::set_torque`](crate::simulation::Simulation::set_torque)). The one declaration for the
     /// FMU's `tau` and the Python package's.
     pub fn with_torque_input(&self) -> Self {
         let mut c = self.clone();

@@ -4,7 +4,7 @@
 
 use super::{Corner, Shape, CONTACT_HEAD, DEFAULT, ROTATION};
 use crate::config::{Geometry, MeshSizes};
-use crate::Error;
+use crate::error::Error;
 use std::f64::consts::PI;
 
 /// Checks the pendulum parameters; each error names its parameter.

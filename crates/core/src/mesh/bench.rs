@@ -7,7 +7,9 @@
 use std::time::Instant;
 
 use super::{generate, generate_with_stats};
-use crate::{Config, Error, Mesh};
+use crate::config::Config;
+use crate::error::Error;
+use crate::mesh::Mesh;
 
 /// One timed mesh generation.
 #[derive(Clone, Copy, Debug, PartialEq)]

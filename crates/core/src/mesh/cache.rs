@@ -18,9 +18,10 @@
 use std::path::{Path, PathBuf};
 
 use super::{BoundaryEdge, Mesh};
+use crate::config::Config;
+use crate::error::Error;
 use crate::store::bytes::{Reader, Writer};
 use crate::store::{cache_folder, fnv1a, write_bytes_atomically};
-use crate::{Config, Error};
 
 const MAGIC: &[u8; 8] = b"PFEMMESH";
 

@@ -28,8 +28,9 @@
 use super::refine::{Refiner, Settings};
 use super::size::SizeField;
 use super::{BoundaryEdge, Mesh};
+use crate::config::Config;
+use crate::error::Error;
 use crate::geometry::{self, Curve, Point, Shape};
-use crate::{Config, Error};
 
 /// Minimum-angle bound of the refinement \[deg\].
 pub const MIN_ANGLE_BOUND_DEG: f64 = 30.0;

@@ -25,8 +25,8 @@ mod parser;
 use std::collections::HashMap;
 use std::path::Path;
 
+use crate::error::Error;
 use crate::mesh::Mesh;
-use crate::Error;
 use build::build_mesh;
 use parser::Parser;
 

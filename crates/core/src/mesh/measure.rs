@@ -40,7 +40,7 @@ impl Mesh {
 
     /// `det J` of element `t` at `(ξ, η)`.
     pub fn jacobian(&self, t: usize, xi: [f64; 2]) -> f64 {
-        let (j, _) = crate::fe::jacobian(&self.element_nodes(t), xi);
+        let (j, _) = crate::element::jacobian(&self.element_nodes(t), xi);
         j[0][0] * j[1][1] - j[0][1] * j[1][0]
     }
 

@@ -30,8 +30,8 @@ use spade::handles::{FixedFaceHandle, FixedVertexHandle, InnerTag};
 use spade::{ConstrainedDelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
 
 use super::size::SizeField;
+use crate::error::Error;
 use crate::geometry::{Curve, Point};
-use crate::Error;
 
 pub(crate) type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 

@@ -13,8 +13,8 @@
 use faer::{Mat, Side};
 
 use crate::assembly::Pattern;
+use crate::error::Error;
 use crate::linsolve::Cholesky;
-use crate::Error;
 
 /// `Σ aᵢ bᵢ` over the shorter of the two, summed in eight interleaved partial sums (`i mod 8`)
 /// added pairwise at the end: the additions of one sum no longer wait for each other, so the

@@ -26,8 +26,8 @@
 use faer::{Mat, Side};
 
 use super::constrained::{dot, ConstrainedSolver};
+use crate::error::Error;
 use crate::terms::inertia::MassMatrix;
-use crate::Error;
 
 /// Relative Ritz residual `β_j |s_j| / θ` at which a pair counts as converged.
 pub(crate) const RITZ_TOLERANCE: f64 = 1e-11;

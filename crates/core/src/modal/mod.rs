@@ -43,10 +43,11 @@
 use rayon::prelude::*;
 
 use crate::assembly::Pattern;
+use crate::error::Error;
 use crate::linsolve::Cholesky;
+use crate::model::Model;
 use crate::terms::inertia::MassMatrix;
 use crate::terms::{StepContext, Term};
-use crate::{Error, Model};
 
 pub mod constrained;
 pub mod lanczos;

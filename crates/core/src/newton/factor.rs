@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use super::{NewtonReport, NewtonSettings, Solver};
 use crate::assembly::Pattern;
+use crate::error::Error;
 use crate::error::NewtonError;
-use crate::Error;
 
 /// The matrix of a factorisation and the frame it was made in: enough to remake it exactly.
 #[derive(Clone, Debug, PartialEq)]

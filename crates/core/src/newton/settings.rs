@@ -26,7 +26,7 @@ pub struct NewtonSettings {
     /// Turn \[rad\] by which [`Solver::solve`] rotates the residual before the linear solve (and the
     /// multipliers back): the energy-momentum Jacobian is `≈ Q(−Δφ/2) K` in the stiff modes, the
     /// tangent `K` at the end of the step seen from the mid-step frame (see
-    /// [`crate::energy_momentum`]), so `Δφ/2` there; 0 for [`Solver::minimize`].
+    /// [`crate::scheme::energy_momentum`]), so `Δφ/2` there; 0 for [`Solver::minimize`].
     pub residual_turn: f64,
 }
 

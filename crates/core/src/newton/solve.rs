@@ -61,7 +61,7 @@ impl Watchdog {
 
 impl Solver {
     /// Solves the system `r(u) + Cᵀλ = 0`, `C u = 0`, where `r` is the sum of the terms' gradients
-    /// and no potential exists (the energy-momentum step, [`crate::energy_momentum`]). The sum of
+    /// and no potential exists (the energy-momentum step, [`crate::scheme::energy_momentum`]). The sum of
     /// the terms' Hessians serves as a symmetric approximation of the Jacobian `∂r/∂u` (factorised
     /// and reused exactly as in [`Solver::minimize`]); the terms' energies only flag inadmissible
     /// states (`+∞`).

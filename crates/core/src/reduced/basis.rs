@@ -33,12 +33,12 @@
 use rayon::prelude::*;
 
 use super::{ArcPoint, ProxyModes, ReducedBody, StressModes};
+use crate::error::Error;
 use crate::linsolve::Cholesky;
 use crate::modal::constrained::dot;
 use crate::modal::{constrained_modes_on, constrained_static_on, rest_shift, stiffness_at_rest};
-use crate::simulation::{Model, HINGE_BOUNDARY};
+use crate::model::{Model, HINGE_BOUNDARY};
 use crate::terms::torque::HubAngle;
-use crate::Error;
 
 /// How many modes of each kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -329,7 +329,7 @@ impl ReducedBody {
     /// ```
     ///
     /// (the modal equations of motion with `θ̈ = α₀`, `θ̇ = ω₀`, `q̇ = q̈ = 0`).
-    pub fn initial_state(&self, config: &crate::Config, torque0: f64) -> ReducedState {
+    pub fn initial_state(&self, config: &crate::config::Config, torque0: f64) -> ReducedState {
         use crate::config::{InitialAcceleration, InitialElastic};
         let init = &config.initial;
         let theta = init.angle_deg.to_radians();

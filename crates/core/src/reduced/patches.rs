@@ -2,7 +2,7 @@
 //! wall's face (`touch_points`), and the unit normal tractions on the arc around those points
 //! whose static responses are the contact modes (`arc_loads`, see [`super::basis`]).
 
-use crate::simulation::{Model, CONTACT_BOUNDARY};
+use crate::model::{Model, CONTACT_BOUNDARY};
 
 /// One quadrature point of the head's arc, as the contact patches see it.
 struct Station {

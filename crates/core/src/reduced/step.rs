@@ -28,6 +28,7 @@
 use super::wall::{Placed, ReducedWall};
 use super::{rotate, ReducedBody, ReducedState};
 use crate::modal::constrained::dot;
+use crate::rigid::Turn;
 use crate::terms::WallContact;
 
 /// The loads of a step.
@@ -58,45 +59,6 @@ pub struct NotConverged {
     pub iterations: usize,
     /// The last scaled update.
     pub update: f64,
-}
-
-/// The product rule for differences of a turn from `θ₀` to `θ₁`:
-/// `R₁ − R₀ = Δθ sinc(Δθ/2) R′(θ_m)` and `R̄ = ½(R₀ + R₁) = [rc −rs; rs rc]`, so that
-/// `R₁y₁ − R₀y₀ = Δθ sc R′(θ_m) ȳ + R̄ (y₁ − y₀)` exactly.
-#[derive(Clone, Copy)]
-pub(crate) struct Turn {
-    /// `sinc(Δθ/2)`.
-    pub sc: f64,
-    /// `sin θ_m`, `cos θ_m`.
-    pub sm: f64,
-    pub cm: f64,
-    /// `R̄`'s entries.
-    pub rs: f64,
-    pub rc: f64,
-}
-
-impl Turn {
-    pub(crate) fn between(theta0: f64, theta1: f64) -> Self {
-        let (sm, cm) = (0.5 * (theta0 + theta1)).sin_cos();
-        let (s0, c0) = theta0.sin_cos();
-        let (s1, c1) = theta1.sin_cos();
-        Self {
-            sc: sinc(0.5 * (theta1 - theta0)),
-            sm,
-            cm,
-            rs: 0.5 * (s0 + s1),
-            rc: 0.5 * (c0 + c1),
-        }
-    }
-}
-
-/// `sin(x)/x`.
-fn sinc(x: f64) -> f64 {
-    if x.abs() < 1e-4 {
-        1.0 - x * x / 6.0
-    } else {
-        x.sin() / x
-    }
 }
 
 /// The end velocity of a linear oscillator `ẍ = −λ x + f` over a step `h` of the midpoint rule with

@@ -31,7 +31,7 @@
 //! thousand times above steel's.
 
 use super::ReducedBody;
-use crate::simulation::Model;
+use crate::model::Model;
 use crate::terms::{StepContext, Term};
 
 /// The estimate `η` above which the reduced body warns (see the module doc).

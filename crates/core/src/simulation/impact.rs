@@ -42,105 +42,52 @@
 //! **A chattering contact.** Where the penalty is far stiffer than the body (a soft head, or a
 //! stiff `contact.stiffness`), the arc's points have a period of microseconds against sub-steps
 //! of tens: the midpoint rule maps that motion to a phase near π per sub-step, and the points
-//! alternate between entering and leaving the wall from one sub-step to the next (measured on a
-//! 24 MPa head at `k = 7e12 N/m³`: 15 of 16 penetrating points swap every sub-step, by about a
-//! micrometre). The rigid-rotation predictor then puts the arc 0.1 mm into the wall (a first
-//! Newton correction of 1e3 J), and the secant of a point that enters (`∝ a²/(a + b)` in its
-//! penetration `a`) is flat near the solution, which Newton approaches by halving: 11–16
-//! iterations per sub-step. Once the smallest gap has alternated over the last three sub-step
-//! ends, the predictor takes the state two sub-steps back, moved on by the drift measured over
-//! the two sub-steps before (the extrapolation exact for a motion linear in time plus an
-//! alternation from one sub-step to the next):
-//!
-//! ```text
-//! u_{n+1} ≈ u_{n−1} + (t_{n+1} − t_{n−1}) / (t_n − t_{n−2}) · (u_n − u_{n−2})
-//! ```
-//!
-//! and the tangent is made afresh (the previous sub-step's factorisation has the entering and
-//! leaving points' slopes swapped): 6–8 iterations ([`Simulation::chatter_guess`]).
+//! alternate between entering and leaving the wall from one sub-step to the next. The rigid-turn
+//! guess then puts the arc into the wall, and the secant of a point that enters (`∝ a²/(a + b)` in
+//! its penetration `a`) is flat near the solution, which Newton approaches by halving. The full
+//! body's guess inside such an impact extrapolates the alternation from the sub-step ends kept
+//! here ([`ImpactTrail`]; the guess in `full::guess`).
 //!
 //! With `contact.method = "penalty"` the steps are not split (the tutorial's way); the events are
 //! then located between step ends only.
 
+use super::events::{ContactEvent, ContactEventKind, ContactPhase, ImpactTrail};
+use super::interface::Ask;
 use super::{Simulation, StepRecord};
 use crate::config::WallKind;
+use crate::error::Error;
 use crate::error::NewtonError;
 use crate::terms::WallContact;
-use crate::Error;
 
-/// Start or end of an impact.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ContactEventKind {
-    /// The head touches the wall.
-    Start,
-    /// The head leaves it.
-    End,
+/// The impacts of a simulation: the events so far, the impact in progress and its sub-step ends,
+/// and the records of the sub-steps inside impacts.
+#[derive(Debug, Default)]
+pub(super) struct Impacts {
+    /// Impacts so far (counted when the head first penetrates the wall).
+    pub count: usize,
+    /// Contact events so far (append-only within a run: roll-backs truncate it).
+    pub events: Vec<ContactEvent>,
+    /// The impact in progress.
+    pub phase: Option<ContactPhase>,
+    /// The sub-step ends of the impact in progress.
+    pub trail: ImpactTrail,
+    /// Whether the sub-steps inside impacts are recorded ([`Simulation::record_impacts`]).
+    pub recording: bool,
+    /// The records of the sub-steps inside impacts not yet taken (roll-backs truncate it).
+    pub records: Vec<StepRecord>,
 }
 
-/// One contact event.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactEvent {
-    /// Time \[s\].
-    pub time: f64,
-    /// Start or end.
-    pub kind: ContactEventKind,
-    /// Proxy angle at the event's step end \[rad\].
-    pub theta: f64,
-    /// Angular velocity at the event's step end \[rad/s\].
-    pub omega: f64,
-    /// Impulse of the wall on the head over the impact \[N s\] (0 at its start).
-    pub impulse: f64,
-    /// Largest penetration over the impact at the sub-step ends \[m\] (0 at its start).
-    pub penetration: f64,
-    /// Largest normal force of the wall over the impact at the sub-step ends \[N\] (0 at its start).
-    pub force: f64,
-}
-
-/// An impact in progress.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct ContactPhase {
-    /// Sub-step length \[s\].
-    pub substep: f64,
-    /// Whether the impact is resolved in sub-steps (not with `contact.method = "penalty"`).
-    pub resolved: bool,
-    /// The first sub-step, `δ_max / (v · substeps)` \[s\].
-    pub first_substep: f64,
-    /// When the head last left the wall, if it has not come back \[s\].
-    pub separated: Option<f64>,
-    /// Time of the touch \[s\].
-    pub touch: f64,
-    /// Whether a point has penetrated yet (the impact counts from then).
-    pub penetrated: bool,
-    /// Impulse so far \[N s\].
-    pub impulse: f64,
-    /// Largest penetration so far \[m\].
-    pub penetration: f64,
-    /// Largest normal force so far \[N\].
-    pub force: f64,
-}
-
-/// The sub-step ends of the impact in progress before the current state, for the predictor of a
-/// chattering contact (see the module doc).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub(super) struct ImpactTrail {
-    /// `(t, u)` at the ends of the (at most two) sub-steps before the last one, oldest first.
-    pub earlier: Vec<(f64, Vec<f64>)>,
-    /// When the last sub-step ended \[s\]: the trail leads to the current state only if it is now.
-    pub end: f64,
-}
-
-impl ImpactTrail {
-    /// Appends the sub-step from `(t0, u0)` that ended at `t1`.
-    fn push(&mut self, t0: f64, u0: &[f64], t1: f64) {
-        if self.earlier.len() == 2 {
-            let mut oldest = self.earlier.remove(0);
-            oldest.0 = t0;
-            oldest.1.copy_from_slice(u0);
-            self.earlier.push(oldest);
-        } else {
-            self.earlier.push((t0, u0.to_vec()));
+impl Impacts {
+    /// What a step of the body is asked about the impacts: the sub-step ends of an impact resolved
+    /// in sub-steps, and the events so far.
+    pub fn ask(&self, correct: bool, step: usize, last_iterations: usize) -> Ask<'_> {
+        Ask {
+            correct,
+            step,
+            last_iterations,
+            impact: self.phase.filter(|p| p.resolved).map(|_| &self.trail),
+            events: &self.events,
         }
-        self.end = t1;
     }
 }
 
@@ -152,54 +99,54 @@ impl Simulation {
 
     /// Contact events so far.
     pub fn contact_events(&self) -> &[ContactEvent] {
-        &self.events
+        &self.contact.events
     }
 
     /// Impacts so far (counted when the head first penetrates the wall).
     pub fn impacts(&self) -> usize {
-        self.impacts
+        self.contact.count
     }
 
     /// Whether the head is in an impact now.
     pub fn in_contact(&self) -> bool {
-        self.contact_phase.is_some_and(|p| p.penetrated)
+        self.contact.phase.is_some_and(|p| p.penetrated)
     }
 
-    /// Advances by `dt` resolving impacts (see the module doc); returns the Newton iterations or the
-    /// failure and the length of the step that failed.
-    pub(super) fn advance_resolving(&mut self, dt: f64) -> Result<usize, Error> {
-        let (step, t0) = (self.step + 1, self.state.t);
+    /// The impact-resolution level of an output step: advances by `dt` resolving impacts (see the
+    /// module doc) in sub-steps ([`Simulation::substep`]); returns the Newton iterations.
+    pub(super) fn resolve_impacts(&mut self, dt: f64) -> Result<usize, Error> {
+        let (step, t0) = (self.step + 1, self.now.state.t);
         let failed = |(source, dt): (NewtonError, f64)| Error::TimeStep {
             step,
             t: t0,
             dt,
             source,
         };
-        let t_end = self.state.t + dt;
+        let t_end = self.now.state.t + dt;
         let (mut its, mut landings) = (0, 0);
         // a remainder below a millionth of the step is rounding of the sub-step sum
-        while t_end - self.state.t > 1e-9 * dt {
-            let remaining = t_end - self.state.t;
+        while t_end - self.now.state.t > 1e-9 * dt {
+            let remaining = t_end - self.now.state.t;
             let (omega, alpha) = self.angular_rates();
-            // a reduced body farther from the wall than twice its rigid flight over the step can
-            // go needs none of the contact's checks on the fields, if it is clear at the end too
-            // (otherwise the step is taken again below, with them)
-            if self.contact_phase.is_none() {
+            // a body that knows itself farther from the wall than twice its rigid flight over the
+            // step can go (the reduced body) needs none of the contact's checks on the fields, if
+            // it is clear at the end too (otherwise the step is taken again below, with them)
+            if self.contact.phase.is_none() {
                 let reach = 2.0
                     * self.model.length_scale()
                     * (omega.abs() * remaining + 0.5 * alpha.abs() * remaining * remaining);
-                if self.reduced_clearance().is_some_and(|c| c > reach) {
+                if self.body.clearance(&self.model).is_some_and(|c| c > reach) {
                     let before = self.rollback_point();
-                    its += self.advance_by(remaining).map_err(failed)?;
-                    if self.reduced_clearance().is_some_and(|c| c > 0.0) {
+                    its += self.substep(remaining).map_err(failed)?;
+                    if self.body.clearance(&self.model).is_some_and(|c| c > 0.0) {
                         continue;
                     }
                     self.roll_back(&before);
                 }
             }
             let wall = self.model.wall.as_ref().expect("resolves_impacts checked the wall");
-            let s = &self.state;
-            let h = match self.contact_phase {
+            let s = &self.now.state;
+            let h = match self.contact.phase {
                 Some(phase) => phase.substep.min(remaining),
                 None if wall.in_contact(&s.u) => {
                     self.begin_contact();
@@ -224,16 +171,16 @@ impl Simulation {
             let h = if remaining - h < 1e-6 * dt { remaining } else { h };
             let apart = !wall.in_contact(&s.u);
             let before = self.rollback_point();
-            its += self.advance_by(h).map_err(failed)?;
+            its += self.substep(h).map_err(failed)?;
             let u0 = &before.snapshot.state.u;
             self.check_contact_step(step, t0, u0)?;
             let wall = self.model.wall.as_ref().expect("checked");
-            if self.contact_phase.is_none() && apart && wall.in_contact(&self.state.u) {
+            if self.contact.phase.is_none() && apart && wall.in_contact(&self.now.state.u) {
                 // a touch the rigid flight did not foresee: retake the step up to the crossing
-                let crossing = wall.first_crossing(u0, &self.state.u).unwrap_or(1.0);
+                let crossing = wall.first_crossing(u0, &self.now.state.u).unwrap_or(1.0);
                 if crossing > 1e-3 && crossing < 1.0 {
                     self.roll_back(&before);
-                    its += self.advance_by(crossing * h).map_err(failed)?;
+                    its += self.substep(crossing * h).map_err(failed)?;
                     self.check_contact_step(step, t0, u0)?;
                     self.begin_contact();
                 } else {
@@ -242,49 +189,21 @@ impl Simulation {
                 }
                 continue;
             }
-            if self.contact_phase.is_some() {
+            if self.contact.phase.is_some() {
                 self.contact_progress(u0, h);
-                if self.contact_phase.is_some() {
-                    self.impact_trail.push(before.snapshot.state.t, u0, self.state.t);
+                if self.contact.phase.is_some() {
+                    self.contact.trail.push(before.snapshot.state.t, u0, self.now.state.t);
                 } else {
-                    self.impact_trail = ImpactTrail::default();
+                    self.contact.trail = ImpactTrail::default();
                 }
-                if self.recording_impacts && self.state.t < t_end - 1e-9 * dt {
+                if self.contact.recording && self.now.state.t < t_end - 1e-9 * dt {
                     // inside the step (its end is the output step's own record)
                     let record = self.record(its);
-                    self.impact_records.push(record);
+                    self.contact.records.push(record);
                 }
             }
         }
         Ok(its)
-    }
-
-    /// The predictor of a sub-step of length `dt` inside a chattering impact (see the module doc),
-    /// or `None`: not in an impact resolved in sub-steps, fewer than three sub-steps of it behind
-    /// the current state, or a smallest gap that did not alternate over them.
-    pub(super) fn chatter_guess(&self, dt: f64) -> Option<Vec<f64>> {
-        self.contact_phase.filter(|p| p.resolved)?;
-        let trail = &self.impact_trail;
-        let wall = self.model.wall.as_ref()?;
-        let [(t2, u2), (t1, u1)] = trail.earlier.as_slice() else {
-            return None;
-        };
-        let (t0, u0) = (self.state.t, &self.state.u);
-        if trail.end != t0 {
-            return None;
-        }
-        let [g2, g1, g0] = [u2, u1, u0].map(|u| wall.smallest_gap(u));
-        if (g0 - g1) * (g1 - g2) >= 0.0 {
-            return None;
-        }
-        let drift = (t0 + dt - t1) / (t0 - t2);
-        Some(
-            u1.iter()
-                .zip(u0)
-                .zip(u2)
-                .map(|((a, b), c)| a + drift * (b - c))
-                .collect(),
-        )
     }
 
     /// Records the state after every sub-step inside an impact (not at the output step's end,
@@ -292,9 +211,9 @@ impl Simulation {
     /// about 2 ms between output rows 10 ms apart is otherwise seen only where a row happens to
     /// fall inside it. Off by default (a record costs the nodal stresses).
     pub fn record_impacts(&mut self, on: bool) {
-        self.recording_impacts = on;
+        self.contact.recording = on;
         if !on {
-            self.impact_records.clear();
+            self.contact.records.clear();
         }
     }
 
@@ -302,7 +221,7 @@ impl Simulation {
     /// [`Simulation::record_impacts`]); the Newton iterations of each are those of its output step
     /// so far.
     pub fn take_impact_records(&mut self) -> Vec<StepRecord> {
-        std::mem::take(&mut self.impact_records)
+        std::mem::take(&mut self.contact.records)
     }
 
     /// The (sub)step just taken from `u0` (started at `t0`, the output step `step` in progress):
@@ -313,13 +232,13 @@ impl Simulation {
         let Some(wall) = self.model.wall.as_ref() else {
             return Ok(());
         };
-        if let Some(message) = wall.came_round(u0, &self.state.u) {
+        if let Some(message) = wall.came_round(u0, &self.now.state.u) {
             return Err(Error::OutsideModel { step, t: t0, message });
         }
-        match wall.uncoupled_contact(&self.state.u) {
+        match wall.uncoupled_contact(&self.now.state.u) {
             Some(message) => Err(Error::ContactOutsidePattern {
                 step,
-                t: self.state.t,
+                t: self.now.state.t,
                 message,
             }),
             None => Ok(()),
@@ -329,7 +248,7 @@ impl Simulation {
     /// The sub-step of the impact in progress \[s\] (`None` between impacts and with
     /// `contact.method = "penalty"`, which does not split steps).
     pub fn contact_substep(&self) -> Option<f64> {
-        self.contact_phase.filter(|p| p.resolved).map(|p| p.substep)
+        self.contact.phase.filter(|p| p.resolved).map(|p| p.substep)
     }
 
     /// Starts an impact at the current state: its sub-step from the contact's time scale.
@@ -355,13 +274,13 @@ impl Simulation {
         };
         let tau = (delta / speed).max(std::f64::consts::FRAC_PI_4 * (mass / body).sqrt());
         let substep = tau / m.config.contact.substeps as f64;
-        self.impact_trail = ImpactTrail::default();
-        self.contact_phase = Some(ContactPhase {
+        self.contact.trail = ImpactTrail::default();
+        self.contact.phase = Some(ContactPhase {
             substep,
             resolved: true,
             first_substep: substep,
             separated: None,
-            touch: self.state.t,
+            touch: self.now.state.t,
             penetrated: false,
             impulse: 0.0,
             penetration: 0.0,
@@ -373,14 +292,14 @@ impl Simulation {
     /// start event at the first penetration, the end event when no point penetrates any more.
     fn contact_progress(&mut self, u0: &[f64], h: f64) {
         let wall: &WallContact = self.model.wall.as_ref().expect("checked");
-        let u1 = &self.state.u;
+        let u1 = &self.now.state.u;
         let force = wall.step_force(u0, u1);
         let (gap0, gap1) = (wall.smallest_gap(u0), wall.smallest_gap(u1));
         let normal = wall.normal_force(u1);
-        let now = self.state.t;
+        let now = self.now.state.t;
         let (omega, _) = self.angular_rates();
-        let theta = self.theta;
-        let Some(mut phase) = self.contact_phase else {
+        let theta = self.now.theta;
+        let Some(mut phase) = self.contact.phase else {
             return;
         };
         phase.impulse += force * h;
@@ -388,8 +307,8 @@ impl Simulation {
         phase.force = phase.force.max(normal);
         if !phase.penetrated && gap1 < 0.0 {
             phase.penetrated = true;
-            self.impacts += 1;
-            self.events.push(ContactEvent {
+            self.contact.count += 1;
+            self.contact.events.push(ContactEvent {
                 time: phase.touch,
                 kind: ContactEventKind::Start,
                 theta,
@@ -410,7 +329,7 @@ impl Simulation {
         // body ringing after the blow may touch again at once: that is the same impact)
         let release = phase.first_substep * self.model.config.contact.substeps as f64;
         if let Some(left) = phase.separated.filter(|&left| now - left >= release || !phase.resolved) {
-            self.events.push(ContactEvent {
+            self.contact.events.push(ContactEvent {
                 time: left,
                 kind: ContactEventKind::End,
                 theta,
@@ -419,15 +338,15 @@ impl Simulation {
                 penetration: phase.penetration,
                 force: phase.force,
             });
-            self.contact_phase = None;
+            self.contact.phase = None;
             return;
         }
         if !phase.penetrated && gap1 > gap0 {
             // grazed and moving away without touching
-            self.contact_phase = None;
+            self.contact.phase = None;
             return;
         }
-        self.contact_phase = Some(phase);
+        self.contact.phase = Some(phase);
     }
 
     /// Books a step of the penalty method (no sub-steps): events between step ends.
@@ -435,17 +354,17 @@ impl Simulation {
         let Some(wall) = self.model.wall.as_ref() else {
             return;
         };
-        let (before, after) = (wall.in_contact(u0), wall.in_contact(&self.state.u));
-        if !before && !after && self.contact_phase.is_none() {
+        let (before, after) = (wall.in_contact(u0), wall.in_contact(&self.now.state.u));
+        if !before && !after && self.contact.phase.is_none() {
             return;
         }
-        if self.contact_phase.is_none() {
-            self.contact_phase = Some(ContactPhase {
+        if self.contact.phase.is_none() {
+            self.contact.phase = Some(ContactPhase {
                 substep: h,
                 resolved: false,
                 first_substep: h,
                 separated: None,
-                touch: self.state.t - h + h * wall.first_crossing(u0, &self.state.u).unwrap_or(1.0),
+                touch: self.now.state.t - h + h * wall.first_crossing(u0, &self.now.state.u).unwrap_or(1.0),
                 penetrated: false,
                 impulse: 0.0,
                 penetration: 0.0,

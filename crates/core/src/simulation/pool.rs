@@ -1,29 +1,24 @@
 //! Running a step on the pool that computes its elements (rayon's), with the pool's other threads
 //! kept awake for the step's duration.
 //!
-//! A step of the full model at dt = 1 ms alternates short parallel passes over the elements (the
-//! discrete gradient at the guess and at the update, the next step's start data, 0.05–0.15 ms
-//! each) with sequential parts between them (the triangular solves, the mass products, the
-//! residual checks). Between two passes rayon's idle threads go to sleep, and the next pass
-//! wakes them through the kernel (a futex, on a virtual machine an inter-processor interrupt):
-//! 14 % of the CPU samples of the step were that wake-up and sleep. So while a step runs, every
-//! other thread of the pool runs a job that waits for work by spinning (taking any part of a pass
-//! the moment it is offered, [`rayon::yield_now`]) until the step is done, at most
-//! [`AWAKE_AT_MOST`]: for a longer step the wake-ups are a small part and the threads sleep as
-//! before. Measured on 2 cores, the default pendulum at dt = 1 ms (`examples/stepper_speed.rs`,
-//! best of 3, stepping only): 0.895 → 0.752 ms per step; through fmpy (`bench fmu`) 1.00 → 1.12
-//! in real-time factor. The arithmetic is unchanged, so are the results, bit for bit.
+//! A step of the full model alternates short parallel passes over the elements (the discrete
+//! gradient at the guess and at the update, the next step's start data) with sequential parts
+//! between them (the triangular solves, the mass products, the residual checks). Between two
+//! passes rayon's idle threads go to sleep, and the next pass wakes them through the kernel (a
+//! futex; on a virtual machine an inter-processor interrupt), a cost of the order of a pass itself
+//! at short steps. So while a step runs, every other thread of the pool runs a job that waits for
+//! work by spinning (taking any part of a pass the moment it is offered, [`rayon::yield_now`])
+//! until the step is done, at most [`AWAKE_AT_MOST`]: for a longer step the wake-ups are a small
+//! part and the threads sleep as before. The arithmetic is unchanged, so are the results, bit for
+//! bit.
 //!
-//! The cost is CPU time: the spinning threads are busy for the whole step (2.4 → 2.9 s of CPU
-//! for 2 s simulated at 1 ms). Between steps they sleep as before; a step called from a thread of
-//! the pool (a sweep's cases, each on its own thread) spins nothing, and neither do the steps of
-//! simulations stepped at the same time from several threads (a threaded scheduler's tasks): a
-//! thread waiting inside one step could take another step's waiting job and spin in it until that
-//! step ends, so with more than one step in flight the waiting jobs return at once.
-//!
-//! Keeping a thread spinning *between* steps as well, for the next step's hand-over, gained 3 %
-//! more through fmpy (0.876 → 0.848 ms per step, three pairs) at the price of a core busy while
-//! the master computes; not done.
+//! The cost is CPU time: the spinning threads are busy for the whole step. Between steps they
+//! sleep as before, so a master that computes between two steps has the cores to itself; a step
+//! called from a thread of the pool (a sweep's cases, each on its own thread) spins nothing, and
+//! neither do the steps of simulations stepped at the same time from several threads (a threaded
+//! scheduler's tasks): a thread waiting inside one step could take another step's waiting job and
+//! spin in it until that step ends, so with more than one step in flight the waiting jobs return
+//! at once.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
@@ -35,7 +30,7 @@ const AWAKE_AT_MOST: Duration = Duration::from_millis(50);
 static IN_FLIGHT: AtomicUsize = AtomicUsize::new(0);
 
 /// Runs `f` on a thread of the pool, handing it there from any other thread for its duration
-/// (why: `Simulation::step_with`), with the pool's other threads spinning for its passes (see the
+/// (why: `Simulation::output_step`), with the pool's other threads spinning for its passes (see the
 /// module doc). From a thread of the pool, `f` runs as it is.
 pub(super) fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     if rayon::current_thread_index().is_some() {

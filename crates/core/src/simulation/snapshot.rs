@@ -39,22 +39,18 @@
 //! events (a public snapshot copies them all, as it must). [`Simulation::events_copied`] counts the
 //! events copied by snapshots and restores.
 
-pub(crate) mod bytes;
-mod fingerprint;
+mod bytes;
 
 pub use bytes::SNAPSHOT_VERSION;
-pub use fingerprint::{fingerprint, Fingerprint};
 
 use std::sync::atomic::Ordering;
-use std::sync::Arc;
 
-use super::impact::{ContactPhase, ImpactTrail};
-use super::{Clock, ContactEvent, Simulation};
-use crate::newmark::State;
-use crate::newton::FactorState;
-use crate::reduced::ReducedState;
+use super::events::{ContactPhase, ImpactTrail};
+use super::interface::BodySnapshot;
+use super::{Clock, ContactEvent, Fingerprint, Simulation};
+use crate::error::Error;
+use crate::model::State;
 use crate::rigid::Unwrap;
-use crate::Error;
 
 /// The complete state of a [`Simulation`] (see the module doc).
 #[derive(Clone, Debug, PartialEq)]
@@ -68,7 +64,6 @@ pub struct Snapshot {
     cutbacks: usize,
     torque_work: f64,
     theta: f64,
-    previous_alpha: Option<(f64, f64)>,
     clock: Clock,
     last_iterations: usize,
     held_torque: Option<f64>,
@@ -76,8 +71,7 @@ pub struct Snapshot {
     events: Vec<ContactEvent>,
     contact_phase: Option<ContactPhase>,
     impact_trail: ImpactTrail,
-    factor: Option<Arc<FactorState>>,
-    reduced: Option<ReducedState>,
+    body: BodySnapshot,
 }
 
 /// A point to roll back to within a run (see the module doc): the snapshot without the contact
@@ -92,27 +86,28 @@ impl Simulation {
     /// The complete state now (see the module doc). Cheap apart from copying the fields and the
     /// contact events: the factorisation is shared, not copied.
     pub fn snapshot(&self) -> Snapshot {
-        self.events_copied.fetch_add(self.events.len(), Ordering::Relaxed);
-        self.snapshot_with(self.events.clone(), true)
+        let events = &self.contact.events;
+        self.events_copied.fetch_add(events.len(), Ordering::Relaxed);
+        self.snapshot_with(events.clone(), true)
     }
 
     /// The state now to roll back to within the run: the fields, not the contact events. A
     /// reduced body without a wall keeps no fields: its coordinates are its state, and its fields
     /// are rebuilt from them when read (a roll-back of a bare 10 µs step copies no 130 kB).
     pub(super) fn rollback_point(&self) -> Rollback {
-        let fields = self.reduced.is_none() || self.model.wall.is_some();
+        let fields = self.body.rolls_back_fields(&self.model);
         Rollback {
             snapshot: self.snapshot_with(Vec::new(), fields),
-            events: self.events.len(),
-            impact_records: self.impact_records.len(),
+            events: self.contact.events.len(),
+            impact_records: self.contact.records.len(),
         }
     }
 
     /// Returns to `r`: the fields as they were, the contact events since dropped.
     pub(super) fn roll_back(&mut self, r: &Rollback) {
         self.apply_fields(&r.snapshot);
-        self.events.truncate(r.events);
-        self.impact_records.truncate(r.impact_records);
+        self.contact.events.truncate(r.events);
+        self.contact.records.truncate(r.impact_records);
     }
 
     /// Contact events copied so far by [`Simulation::snapshot`] and [`Simulation::restore`] (a cost
@@ -124,10 +119,11 @@ impl Simulation {
     /// The snapshot with `events`, and without the nodal fields unless `fields` (then
     /// [`Simulation::apply_fields`] keeps the current ones and marks them stale).
     fn snapshot_with(&self, events: Vec<ContactEvent>, fields: bool) -> Snapshot {
+        let now = &self.now;
         let state = match fields {
-            true => self.state.clone(),
+            true => now.state.clone(),
             false => State {
-                t: self.state.t,
+                t: now.state.t,
                 u: Vec::new(),
                 v: Vec::new(),
                 a: Vec::new(),
@@ -136,23 +132,21 @@ impl Simulation {
         Snapshot {
             fingerprint: self.model.fingerprint,
             state,
-            lambda: self.lambda,
+            lambda: now.lambda,
             step: self.step,
             total_iterations: self.total_iterations,
             total_factorizations: self.total_factorizations,
             cutbacks: self.cutbacks,
-            torque_work: self.torque_work,
-            theta: self.theta,
-            previous_alpha: self.previous_alpha,
+            torque_work: now.torque_work,
+            theta: now.theta,
             clock: self.clock,
             last_iterations: self.last_iterations,
-            held_torque: self.held_torque,
-            impacts: self.impacts,
+            held_torque: now.held_torque,
+            impacts: self.contact.count,
             events,
-            contact_phase: self.contact_phase,
-            impact_trail: self.impact_trail.clone(),
-            factor: self.solver.factor_state(),
-            reduced: self.reduced.clone(),
+            contact_phase: self.contact.phase,
+            impact_trail: self.contact.trail.clone(),
+            body: self.body.save(),
         }
     }
 
@@ -170,7 +164,7 @@ impl Simulation {
                 snapshot.fingerprint, self.model.fingerprint
             )));
         }
-        let n = self.state.u.len();
+        let n = self.now.state.u.len();
         let s = &snapshot.state;
         let trail = snapshot.impact_trail.earlier.iter().map(|(_, u)| u.len());
         if let Some(m) = [s.u.len(), s.v.len(), s.a.len()]
@@ -184,50 +178,37 @@ impl Simulation {
         }
         self.apply_fields(snapshot);
         self.events_copied.fetch_add(snapshot.events.len(), Ordering::Relaxed);
-        self.events = snapshot.events.clone();
+        self.contact.events = snapshot.events.clone();
         // the records belong to the steps the restore undoes or skips
-        self.impact_records.clear();
+        self.contact.records.clear();
         Ok(())
     }
 
     /// Sets every part of the state from `s` but the contact events (no checks; see
     /// [`Simulation::restore`]).
     fn apply_fields(&mut self, s: &Snapshot) {
-        match s.state.u.is_empty() && !self.state.u.is_empty() {
+        let now = &mut self.now;
+        match s.state.u.is_empty() && !now.state.u.is_empty() {
             // a roll-back point without fields (see [`Simulation::rollback_point`])
-            true => self.state.t = s.state.t,
-            false => self.state = s.state.clone(),
+            true => now.state.t = s.state.t,
+            false => now.state = s.state.clone(),
         }
-        self.lambda = s.lambda;
+        now.lambda = s.lambda;
+        now.torque_work = s.torque_work;
+        now.theta = s.theta;
+        now.unwrap = Unwrap::starting_at(s.theta);
+        now.held_torque = s.held_torque;
+        now.rates = None;
         self.step = s.step;
         self.total_iterations = s.total_iterations;
         self.total_factorizations = s.total_factorizations;
         self.cutbacks = s.cutbacks;
-        self.torque_work = s.torque_work;
-        self.theta = s.theta;
-        self.unwrap = Unwrap::starting_at(s.theta);
-        self.previous_alpha = s.previous_alpha;
         self.clock = s.clock;
         self.last_iterations = s.last_iterations;
-        self.apply_torque_input(s.held_torque);
-        self.impacts = s.impacts;
-        self.contact_phase = s.contact_phase;
-        self.impact_trail = s.impact_trail.clone();
-        self.reduced = s.reduced.clone();
-        // a reduced body's snapshot holds at most the fields its steps read (none without a wall,
-        // the head's arc and the block with one); the rest is rebuilt from its coordinates
-        self.fields_stale = self.reduced.is_some();
-        self.lazy_fields = Default::default();
-        self.rates = None;
-        // The matrix was factorised before with this symbolic analysis; should that fail now, the
-        // next step factorises afresh.
-        if self
-            .solver
-            .restore_factor(&self.model.pattern, s.factor.clone())
-            .is_err()
-        {
-            let _ = self.solver.restore_factor(&self.model.pattern, None);
-        }
+        self.contact.count = s.impacts;
+        self.contact.phase = s.contact_phase;
+        self.contact.trail = s.impact_trail.clone();
+        self.body.restore(&self.model, &s.body);
     }
 }
 
@@ -242,7 +223,7 @@ impl Snapshot {
         self.state.t
     }
 
-    /// The model fingerprint it was made with (see [`crate::simulation::Model::fingerprint`]).
+    /// The model fingerprint it was made with (see [`crate::model::Model::fingerprint`]).
     pub fn fingerprint(&self) -> Fingerprint {
         self.fingerprint
     }
@@ -251,15 +232,7 @@ impl Snapshot {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::{Config, TorqueProfile};
-    use std::path::PathBuf;
-
-    pub(super) fn table_config(file: &str) -> Config {
-        let mut cfg = Config::default();
-        cfg.torque.profile = TorqueProfile::Table;
-        cfg.torque.file = Some(PathBuf::from(file));
-        cfg
-    }
+    use crate::model::fingerprint::tests::table_config;
 
     #[test]
     fn a_snapshot_restores_through_another_path_to_the_same_table_but_not_after_the_table_is_edited() {

@@ -19,11 +19,10 @@
 //!   [`Simulation::nodal_stress`]. A step computes none of the stresses; they cost a pass over every
 //!   element node and are made only when asked for.
 
-use super::pool::on_pool;
 use super::{Clock, Simulation, StepRecord};
 use crate::constraint::Hinge;
+use crate::error::Error;
 use crate::post::NodalStress;
-use crate::Error;
 
 /// The energies of the current state \[J\].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -51,24 +50,24 @@ impl Simulation {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(Error::Input(format!(
                 "step(dt = {dt} s) at t = {} s: allowed dt > 0 and finite",
-                self.state.t
+                self.now.state.t
             )));
         }
         let clock = self.clock.after(dt);
-        self.step_with(dt, clock)
+        self.output_step(dt, clock)
     }
 
     /// Advances the state by one step to exactly `t_end` \[s\] (after the current time), for a last
     /// step that lands on an end time; otherwise as [`Simulation::step`].
     pub fn step_to(&mut self, t_end: f64) -> Result<usize, Error> {
-        let t0 = self.state.t;
+        let t0 = self.now.state.t;
         let dt = t_end - t0;
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(Error::Input(format!(
                 "step_to(t_end = {t_end} s) from t = {t0} s: the end must lie after the current time"
             )));
         }
-        self.step_with(dt, Clock::at(t_end))
+        self.output_step(dt, Clock::at(t_end))
     }
 
     /// Shorthand for [`Simulation::step`] of `time.dt` followed by [`Simulation::record`] (with the
@@ -82,65 +81,6 @@ impl Simulation {
     pub fn advance(&mut self) -> Result<StepRecord, Error> {
         let its = self.step(self.model.config.time.dt)?;
         Ok(self.record(its))
-    }
-
-    /// One step of `dt` to the time of `clock` (see [`Simulation::step`]).
-    ///
-    /// The step runs on a thread of the pool that computes its elements (rayon's): called from
-    /// elsewhere (the CLI's main thread, an FMU master's, Python's), it is handed to the pool for
-    /// its duration. From outside, each parallel pass over the elements (several per step) would
-    /// wake the pool's threads and put the caller to sleep until they finish; on a worker, the
-    /// caller computes its share and only the other threads are woken. The arithmetic is the same,
-    /// so are the results, bit for bit. Measured on 2 cores, the default pendulum at dt = 1 ms:
-    /// 1.43–1.50 ms per step from outside, 1.23 ms on a worker (`examples/stepper_speed.rs`).
-    ///
-    /// A reduced body's step has no pass over the elements to share (7 µs in all, less than the
-    /// hand-over itself): it runs on the caller's thread.
-    fn step_with(&mut self, dt: f64, clock: Clock) -> Result<usize, Error> {
-        if self.model.reduced.is_some() {
-            return self.step_on_worker(dt, clock);
-        }
-        on_pool(|| self.step_on_worker(dt, clock))
-    }
-
-    /// [`Simulation::step_with`] on a thread of the pool.
-    fn step_on_worker(&mut self, dt: f64, clock: Clock) -> Result<usize, Error> {
-        let before = self.rollback_point();
-        match self.advance_over(dt) {
-            Ok(its) => {
-                self.clock = clock;
-                self.state.t = clock.time();
-                self.theta = self.unwrap.next(self.proxy_angle());
-                self.last_iterations = its;
-                if self.model.scheme == crate::config::Scheme::EnergyMomentum && self.model.reduced.is_none() {
-                    // what the next step starts from, made here on the pool: the outputs read
-                    // between two steps (the strain energy, ω and α) then cost no pass of their own
-                    self.prepare_next_step();
-                }
-                Ok(its)
-            }
-            Err(e) => {
-                self.roll_back(&before);
-                Err(self.outside_model(e, dt))
-            }
-        }
-    }
-
-    /// A failed step's error, or the cause outside the model that explains it: the head's rigid
-    /// flight over the step (from the rolled-back start, at the best-fit rates, in eighths) came
-    /// round the deformable wall's face ([`crate::terms::WallContact::behind_face`]).
-    fn outside_model(&mut self, e: Error, dt: f64) -> Error {
-        let Error::TimeStep { step, t, .. } = e else {
-            return e;
-        };
-        let (omega, alpha) = self.angular_rates();
-        let Some(wall) = &self.model.wall else {
-            return e;
-        };
-        (1..=8)
-            .map(|k| dt * k as f64 / 8.0)
-            .find_map(|h| wall.behind_face(&self.state.u, omega * h + 0.5 * alpha * h * h))
-            .map_or(e, |message| Error::OutsideModel { step, t, message })
     }
 
     /// Holds the actuator torque at `value` \[N m\] from now on, replacing the `[torque]` profile
@@ -167,8 +107,8 @@ impl Simulation {
         let c = &self.model.config;
         torque.check_input(value, c.geometry.thickness, c.material.youngs_modulus)?;
         let before = (self.step == 0).then(|| self.rollback_point());
-        self.apply_torque_input(Some(value));
-        self.rates = None;
+        self.now.held_torque = Some(value);
+        self.now.rates = None;
         if let Some(before) = before {
             // an input set before the first step is part of the initial state (its rigid
             // acceleration and elastic equilibrium), as a configured torque would be; if that
@@ -183,23 +123,17 @@ impl Simulation {
 
     /// The torque held by [`Simulation::set_torque`] \[N m\], `None` while the profile acts.
     pub fn held_torque(&self) -> Option<f64> {
-        self.held_torque
-    }
-
-    /// Makes the torque follow `held` (a value) or the configured profile (`None`): the held input
-    /// reaches the terms through their [`crate::terms::StepContext`].
-    pub(super) fn apply_torque_input(&mut self, held: Option<f64>) {
-        self.held_torque = held;
+        self.now.held_torque
     }
 
     /// Time of the current state \[s\].
     pub fn time(&self) -> f64 {
-        self.state.t
+        self.now.state.t
     }
 
     /// Proxy angle of the current state, unwrapped (continuous past ±π) \[rad\].
     pub fn theta(&self) -> f64 {
-        self.theta
+        self.now.theta
     }
 
     /// Newton iterations (linear solves) of the last step: its sub-steps, and the attempts that
@@ -211,58 +145,21 @@ impl Simulation {
     /// Kinetic, strain and gravitational energy of the current state and the torque's work \[J\].
     pub fn energies(&mut self) -> Energies {
         let kinetic = self.kinematics().kinetic;
-        let full = self.model.scheme == crate::config::Scheme::EnergyMomentum && self.model.reduced.is_none();
-        if full && self.current_starts().is_none() {
-            // the next step needs the start data anyway; the strain energy is its sum (a step
-            // makes it at its end, so only a state set otherwise needs it made here)
-            on_pool(|| self.elastic_starts());
-        }
+        self.body.prepare_energies(&self.model, &self.now);
         self.energies_with(kinetic)
     }
 
     /// The energies of the current state with its kinetic energy \[J\] already computed: the one
     /// definition of the total energy, for [`Simulation::energies`] and the records.
     pub(super) fn energies_with(&self, kinetic: f64) -> Energies {
-        let cx = self.context();
-        let (s, m) = (&self.state, &self.model);
-        let (strain, gravity, contact) = match (&m.reduced, &self.reduced, &m.reduced_wall) {
-            // the deformable wall: the block's modal strain energy, its weight and the contact
-            // from the fields, which every step with a wall brings up to date
-            (Some(body), Some(r), Some(wall)) => (
-                body.strain(&r.q) + wall.strain(&r.wall_q),
-                body.gravity(r, m.config.gravity.g) + crate::terms::Term::energy(&*m.bodies[1].gravity, &s.u, &cx),
-                if self.reduced_clearance().is_some_and(|c| c > 0.0) {
-                    0.0
-                } else {
-                    m.contact_energy(&s.u, &cx)
-                },
-            ),
-            (Some(body), Some(r), None) => (
-                body.strain(&r.q),
-                body.gravity(r, m.config.gravity.g),
-                m.wall.as_ref().map_or(0.0, |w| body.contact(r, w).0),
-            ),
-            _ => (
-                match self.current_starts() {
-                    Some(starts) => m
-                        .bodies
-                        .iter()
-                        .zip(starts)
-                        .map(|(b, d)| b.elastic.energy_of_start(d))
-                        .sum(),
-                    None => m.strain_energy(&s.u, &cx),
-                },
-                m.gravity_energy(&s.u, &cx),
-                m.contact_energy(&s.u, &cx),
-            ),
-        };
+        let [strain, gravity, contact] = self.body.energies(&self.model, &self.now);
         Energies {
             kinetic,
             strain,
             gravity,
             contact,
             total: kinetic + strain + gravity + contact,
-            torque_work: self.torque_work,
+            torque_work: self.now.torque_work,
         }
     }
 
@@ -271,82 +168,73 @@ impl Simulation {
     /// `results.csv`); without one, the smallest signed distance of the arc's nodes to the plane
     /// `x = wall.x` (`+∞` for a mesh without the arc).
     pub fn gap(&self) -> f64 {
-        if let (Some(body), Some(r), Some(wall), None) = (
-            &self.model.reduced,
-            &self.reduced,
-            &self.model.wall,
-            &self.model.reduced_wall,
-        ) {
-            return body.contact(r, wall).1;
-        }
-        let u = &self.state.u;
-        if let Some(wall) = &self.model.wall {
-            return wall.smallest_gap(u);
-        }
-        let (mesh, face_x) = (&self.model.mesh, self.model.config.wall.x);
-        mesh.edges_named(super::CONTACT_BOUNDARY)
-            .flat_map(|e| e.nodes)
-            .map(|n| mesh.nodes[n][0] + u[2 * n] - face_x)
-            .fold(f64::INFINITY, f64::min)
+        self.body.gap(&self.model, &self.now)
     }
 
     /// The normal force of the wall on the head in the current state \[N\] (the `contact_force_N`
     /// column of `results.csv`, a negative zero as 0); 0 without a wall. The one reading of the
     /// contact force for the FMU's and the Python package's outputs.
     pub fn contact_force(&self) -> f64 {
-        if let (Some(body), Some(r), Some(wall), None) = (
-            &self.model.reduced,
-            &self.reduced,
-            &self.model.wall,
-            &self.model.reduced_wall,
-        ) {
-            return crate::post::unsigned_zero(body.contact(r, wall).2);
-        }
-        if self.reduced_clearance().is_some_and(|c| c > 0.0) {
-            return 0.0;
-        }
-        self.model
-            .wall
-            .as_ref()
-            .map_or(0.0, |wall| crate::post::unsigned_zero(wall.normal_force(&self.state.u)))
+        self.body.contact_force(&self.model, &self.now)
     }
 
     /// Force of the hinge on the body \[N\].
     pub fn hinge_reaction(&self) -> [f64; 2] {
-        Hinge::reaction(self.lambda)
+        Hinge::reaction(self.now.lambda)
     }
 
     /// Nodal displacement, interleaved `[u_x, u_y]` per node \[m\].
     pub fn displacement(&self) -> &[f64] {
-        self.lazy_fields().map_or(&self.state.u, |f| &f[0])
+        self.body.fields(&self.now)[0]
     }
 
     /// Nodal velocity, interleaved \[m/s\].
     pub fn velocity(&self) -> &[f64] {
-        self.lazy_fields().map_or(&self.state.v, |f| &f[1])
+        self.body.fields(&self.now)[1]
     }
 
     /// Nodal Cauchy and von Mises stresses of the current state (computed on this call).
     pub fn nodal_stress(&mut self) -> NodalStress {
         self.stress_evaluations += 1;
-        if let (Some(body), Some(r)) = (&self.model.reduced, &self.reduced) {
-            return body.nodal_stress(r);
-        }
-        self.model.nodal_stress(&self.state.u)
+        self.body.nodal_stress(&self.model, &self.now)
     }
 
     /// The largest nodal von Mises stress of the current state \[Pa\] (computed on this call).
     pub fn von_mises_max(&mut self) -> f64 {
         self.stress_evaluations += 1;
-        if let (Some(body), Some(r)) = (&self.model.reduced, &self.reduced) {
-            return body.von_mises_max(r, &mut self.stress_reference);
-        }
-        self.model.max_von_mises(&self.state.u)
+        self.body.von_mises_max(&self.model, &self.now)
     }
 
     /// How often nodal stresses were computed so far (by [`Simulation::nodal_stress`],
     /// [`Simulation::von_mises_max`], records and frames; never by a step).
     pub fn stress_evaluations(&self) -> usize {
         self.stress_evaluations
+    }
+
+    /// Nonzeros of the full body's factor (0 for the reduced body).
+    pub fn factor_nnz(&self) -> usize {
+        self.body.factor_nnz()
+    }
+
+    /// The torque's work since the start \[J\].
+    pub fn torque_work(&self) -> f64 {
+        self.now.torque_work
+    }
+
+    /// The reduced body's largest error estimate so far and when it was reached `(η, t)`
+    /// ([`crate::reduced::validity`]); `None` for the full body.
+    pub fn error_estimate(&self) -> Option<(f64, f64)> {
+        self.body.error_estimate()
+    }
+
+    /// A warning the run has raised since the last call (the reduced body's, once, when it does
+    /// not apply), for the driver to show.
+    pub fn take_warning(&mut self) -> Option<String> {
+        self.body.take_warning()
+    }
+
+    /// The reduced body's coordinates and momenta, `None` for the full body.
+    pub fn reduced_state(&self) -> Option<&crate::reduced::ReducedState> {
+        self.body.reduced_state()
     }
 }

@@ -3,7 +3,7 @@
 //! the end and never allocates for a count that the remaining bytes cannot hold; its errors name
 //! the source, the item and the byte.
 
-use crate::Error;
+use crate::error::Error;
 
 /// A little-endian byte writer (snapshots, the cache files).
 pub struct Writer(pub Vec<u8>);

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
-use crate::Error;
+use crate::error::Error;
 
 /// Writes what `fill` writes to `path` through a temporary file in the same folder (made if
 /// missing), then renames it over `path` (see the module doc). Errors name `path`.

@@ -9,7 +9,7 @@
 
 use std::path::Path;
 
-use crate::Error;
+use crate::error::Error;
 
 /// A numeric CSV table (see the module doc).
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -36,7 +36,7 @@ use super::{StepContext, StepStart, Term};
 use crate::assembly::{element_dofs, Pattern};
 use crate::fe::FeCache;
 use crate::material::{det, first_piola, green_strain, Material, StressTangent, Sym, VecF};
-use crate::Mesh;
+use crate::mesh::Mesh;
 
 /// Elements per parallel block.
 const BLOCK: usize = 1024;
@@ -57,7 +57,7 @@ pub struct Elastic {
     /// Element connectivity.
     pub triangles: Vec<[usize; 6]>,
     /// Reference data (degree-4 rule, weights carry the thickness), shared by the models of one
-    /// mesh ([`crate::simulation::shared`]).
+    /// mesh ([`crate::model::shared`]).
     pub cache: Arc<FeCache>,
     /// Index of the first element among the elements of the pattern it assembles into (a body
     /// after the first of a model starts after the elements of those before it).

@@ -2,15 +2,15 @@
 //!
 //! `M_{ai,bk} = δ_ik ∫ ρ t N_a N_b dA` is the consistent mass matrix, integrated once with the
 //! degree-6 rule (exact for curved P2 elements) and stored in the values layout of the fixed
-//! pattern. The step sets the predictor `ũ` and the factor `c` ([`crate::newmark`]).
+//! pattern. The step sets the predictor `ũ` and the factor `c` ([`crate::scheme::newmark`]).
 
 use rayon::prelude::*;
 
 use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
 use crate::fe::for_each_point;
+use crate::mesh::Mesh;
 use crate::quadrature::TriangleRule;
-use crate::Mesh;
 
 /// Nodes (rows) of the node-level mass matrix per parallel task of [`MassMatrix::apply_each`].
 const ROWS_PER_TASK: usize = 512;

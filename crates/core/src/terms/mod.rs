@@ -12,11 +12,11 @@
 //!
 //! **Step context.** Besides `u`, a term reads only its [`StepContext`]: the time of the evaluated
 //! state, the start of the step it belongs to (displacement, time, unwrapped proxy angle) and the
-//! inputs held over the step (the torque of [`crate::Simulation::set_torque`]). Terms keep no
+//! inputs held over the step (the torque of [`crate::simulation::Simulation::set_torque`]). Terms keep no
 //! mutable state: a term is a function of `(u, context)`, so a snapshot of the stepper's state is
 //! all there is to save.
 //!
-//! **Discrete gradients.** The energy-momentum scheme ([`crate::energy_momentum`]) replaces the
+//! **Discrete gradients.** The energy-momentum scheme ([`crate::scheme::energy_momentum`]) replaces the
 //! gradient at one end of a step by a *discrete gradient* `∇ᵈΠ(u₀, u₁)` over the step, with
 //!
 //! ```text
@@ -33,14 +33,14 @@ use crate::assembly::Pattern;
 
 pub mod contact;
 pub mod elastic;
-pub mod gravity;
 pub mod inertia;
+pub mod linear;
 pub mod torque;
 
 pub use contact::WallContact;
 pub use elastic::Elastic;
-pub use gravity::Gravity;
 pub use inertia::Inertia;
+pub use linear::{Gravity, Linear};
 pub use torque::{Torque, TorqueMode, TorqueTable, HUB_STRESS_LIMIT};
 
 /// One additive contribution to the potential.
@@ -165,7 +165,7 @@ pub struct StepStart<'a> {
     pub u: &'a [f64],
     /// What the term's [`Term::discrete_start`] returned for the start.
     pub data: &'a [f64],
-    /// Numerical dissipation `χ ∈ [0, 1)` of the strain energy (see [`crate::energy_momentum`]);
+    /// Numerical dissipation `χ ∈ [0, 1)` of the strain energy (see [`crate::scheme::energy_momentum`]);
     /// other terms ignore it.
     pub dissipation: f64,
 }
@@ -230,44 +230,8 @@ impl Term for Scaled<'_> {
     }
 }
 
-/// A constant load as an energy, `Π = f·u` (d'Alembert forces of the initial rigid motion; the
-/// `−α ∇Π(uₙ)` term of HHT-α).
-pub struct Linear {
-    /// `f = ∂Π/∂u` \[N\].
-    pub gradient: Vec<f64>,
-}
-
-impl Term for Linear {
-    fn name(&self) -> &'static str {
-        "linear load"
-    }
-
-    fn energy(&self, u: &[f64], _cx: &StepContext) -> f64 {
-        self.gradient.iter().zip(u).map(|(f, x)| f * x).sum()
-    }
-
-    fn add_gradient(&self, _u: &[f64], _cx: &StepContext, g: &mut [f64]) {
-        g.iter_mut().zip(&self.gradient).for_each(|(gi, f)| *gi += f);
-    }
-
-    fn add_hessian(&self, _u: &[f64], _cx: &StepContext, _pattern: &Pattern, _values: &mut [f64]) {}
-
-    /// A linear energy: the gradient itself.
-    fn add_discrete_gradient(
-        &self,
-        _start: &StepStart,
-        u1: &[f64],
-        cx: &StepContext,
-        factor: f64,
-        g: &mut [f64],
-    ) -> f64 {
-        g.iter_mut().zip(&self.gradient).for_each(|(gi, f)| *gi += factor * f);
-        self.energy(u1, cx)
-    }
-}
-
 /// A term's discrete gradient over one step as a term of the energy-momentum system
-/// ([`crate::energy_momentum`]): gradient `gradient_factor · ∇ᵈΠ(u₀, u)`, and as its approximate
+/// ([`crate::scheme::energy_momentum`]): gradient `gradient_factor · ∇ᵈΠ(u₀, u)`, and as its approximate
 /// Jacobian the term's own Jacobian of the discrete gradient where it has one
 /// ([`Term::add_discrete_hessian`]), otherwise `hessian_factor · ∇²Π(u)`. Its "energy" only flags
 /// inadmissible states (`+∞`): the energy-momentum system has no potential.

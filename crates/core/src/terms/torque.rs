@@ -59,7 +59,7 @@
 //! energy is smooth. Gradient and Hessian do not depend on `φ_ref`.
 //!
 //! **Input.** The torque's value is the held input of the context (`StepContext::torque`, set by
-//! [`crate::Simulation::set_torque`]) when there is one, else the profile's `M(t)`.
+//! [`crate::simulation::Simulation::set_torque`]) when there is one, else the profile's `M(t)`.
 //!
 //! ## Fixed-direction load (`follower = false`)
 //!
@@ -94,8 +94,9 @@ pub use profile::TorqueTable;
 use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
 use crate::config;
+use crate::error::Error;
+use crate::mesh::Mesh;
 use crate::rigid::best_fit_angle;
-use crate::{Error, Mesh};
 
 /// How the torque load acts (`torque.follower`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

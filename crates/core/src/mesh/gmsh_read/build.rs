@@ -5,8 +5,8 @@
 use std::collections::HashMap;
 
 use super::{RawMesh, HINGE_NAME};
+use crate::error::Error;
 use crate::mesh::{BoundaryEdge, Mesh};
-use crate::Error;
 
 pub(super) fn build_mesh(raw: RawMesh, source: &str) -> Result<Mesh, Error> {
     let err = |m: String| Error::Input(format!("{source}: {m}"));

@@ -3,7 +3,7 @@
 //! other sections skipped; errors name the line or byte offset.
 
 use super::RawMesh;
-use crate::Error;
+use crate::error::Error;
 
 pub(super) struct Parser<'a> {
     data: &'a [u8],

@@ -4,10 +4,9 @@
 //!
 //! **Reading streams the file.** The small fields come through a buffer; each vector is read
 //! straight into its own memory, 64 KiB at a time, and the checksum takes each piece while it is
-//! still in the processor's cache. Most of a body is its modes' stresses (2.8 MB of the tutorial
-//! body's 3.5 MB): reading the whole file into memory first and converting it afterwards touched
-//! every byte twice and made the system supply twice the fresh memory (1.6 ms to read and 2.0 ms to
-//! convert on the tutorial's body, most of it page faults).
+//! still in the processor's cache. Most of a body is its modes' stresses: reading the whole file
+//! into memory first and converting it afterwards would touch every byte twice and make the system
+//! supply twice the fresh memory (page faults, most of the cost of a read).
 //!
 //! **The checksum** is FNV-1a's step (xor, then multiply by the FNV prime) over the little-endian
 //! 8-byte words in four interleaved lanes (word `i` goes to lane `i mod 4`), so that four
@@ -18,8 +17,8 @@ use std::io::Read;
 
 use super::super::{ArcPoint, ProxyModes, ReducedBody, StressModes};
 use super::CACHE_VERSION;
+use crate::error::Error;
 use crate::store::bytes::Writer;
-use crate::Error;
 
 const MAGIC: &[u8; 8] = b"PFEMREDU";
 

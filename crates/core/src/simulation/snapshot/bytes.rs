@@ -4,16 +4,18 @@
 
 use std::sync::Arc;
 
-use super::super::impact::{ContactPhase, ImpactTrail};
-use super::super::{Clock, ContactEvent, ContactEventKind};
-use super::{Fingerprint, Snapshot};
-use crate::newmark::State;
+use super::super::events::{ContactEvent, ContactEventKind, ContactPhase, ImpactTrail};
+use super::super::interface::BodySnapshot;
+use super::super::Clock;
+use super::Snapshot;
+use crate::error::Error;
+use crate::model::Fingerprint;
+use crate::model::State;
 use crate::newton::FactorState;
 use crate::reduced::step::Factor;
 use crate::reduced::ReducedState;
 use crate::store::bytes::{Reader, Writer};
 use crate::store::fnv1a;
-use crate::Error;
 
 /// Version of the byte format of [`Snapshot::to_bytes`] (3: the fingerprint in three parts, without
 /// file paths; 4: the impact's last sub-step ends; 5: the reduced body's coordinates, velocities and step Jacobian; 6: the reduced deformable wall's
@@ -43,7 +45,7 @@ impl Snapshot {
         w.usize(self.cutbacks);
         w.f64(self.torque_work);
         w.f64(self.theta);
-        match self.previous_alpha {
+        match self.body.previous_alpha {
             Some((t, a)) => {
                 w.u8(1);
                 w.f64(t);
@@ -88,7 +90,7 @@ impl Snapshot {
             w.vec(u);
         }
         w.f64(self.impact_trail.end);
-        match &self.factor {
+        match &self.body.factor {
             Some(f) => {
                 w.u8(1);
                 w.f64(f.frame.0);
@@ -97,7 +99,7 @@ impl Snapshot {
             }
             None => w.u8(0),
         }
-        match &self.reduced {
+        match &self.body.reduced {
             Some(r) => {
                 w.u8(1);
                 w.f64(r.theta);
@@ -281,7 +283,6 @@ impl Snapshot {
             cutbacks,
             torque_work,
             theta,
-            previous_alpha,
             clock,
             last_iterations,
             held_torque,
@@ -289,8 +290,11 @@ impl Snapshot {
             events,
             contact_phase,
             impact_trail,
-            factor,
-            reduced,
+            body: BodySnapshot {
+                previous_alpha,
+                factor,
+                reduced,
+            },
         })
     }
 }

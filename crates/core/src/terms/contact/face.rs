@@ -5,7 +5,8 @@
 use super::law::{taper, taper_secant};
 use super::points::ContactPoint;
 use super::WallContact;
-use crate::{Error, Mesh};
+use crate::error::Error;
+use crate::mesh::Mesh;
 
 /// The deformable wall's face: the nodes of its contact edge, sorted by reference `y`, as a
 /// polyline (straight pieces between consecutive nodes).

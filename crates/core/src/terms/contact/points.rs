@@ -4,8 +4,9 @@
 
 use super::WallContact;
 use crate::element::Tri6;
+use crate::error::Error;
+use crate::mesh::Mesh;
 use crate::quadrature::gauss_legendre_unit;
-use crate::{Error, Mesh};
 
 /// One quadrature point of the contact arc.
 #[derive(Clone, Debug)]

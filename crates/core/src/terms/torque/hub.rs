@@ -2,9 +2,10 @@
 //! of a displacement, `θ_hub = atan2(s, c)` on a chosen branch and its gradient (equations in
 //! the parent module's doc).
 
+use crate::error::Error;
 use crate::fe::for_each_edge_point;
+use crate::mesh::Mesh;
 use crate::rigid::best_fit_angle;
-use crate::{Error, Mesh};
 
 /// The hinge-edge moments of the hub angle (see the module doc).
 #[derive(Clone, Debug)]

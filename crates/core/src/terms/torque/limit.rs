@@ -3,7 +3,7 @@
 //! input beyond it.
 
 use super::Torque;
-use crate::Error;
+use crate::error::Error;
 
 /// The largest traction stress the torque may put on the hinge edge, as a fraction of the
 /// pendulum's Young's modulus (see [`Torque::edge_stress`]): a fifth, a nominal strain of 20 %
@@ -42,7 +42,7 @@ impl Torque {
             })
     }
 
-    /// Refuses a torque input `m` \[N·m\] (held by [`crate::Simulation::set_torque`]) beyond the
+    /// Refuses a torque input `m` \[N·m\] (held by [`crate::simulation::Simulation::set_torque`]) beyond the
     /// same limit as the profile's peak ([`Torque::check_hub_stress`]).
     pub fn check_input(&self, m: f64, thickness: f64, youngs_modulus: f64) -> Result<(), Error> {
         self.hub_stress_excess(m, thickness, youngs_modulus)

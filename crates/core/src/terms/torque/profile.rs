@@ -4,7 +4,7 @@
 
 use super::Torque;
 use crate::config;
-use crate::Error;
+use crate::error::Error;
 use std::path::Path;
 
 /// The samples of a `profile = "table"` torque: `(time, torque)` pairs, evaluated by

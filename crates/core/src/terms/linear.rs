@@ -1,25 +1,39 @@
-//! Gravity along −y: `Π_g(u) = ∫_Ω₀ ρ t g (Y + u_y) dA`, the potential energy relative to the pivot
-//! height (`y = 0`). It is linear in `u`: `Π_g = E₀ + Σ_a w_a u_{a,y}` with `w_a = ρ t g ∫ N_a dA`
-//! and `E₀ = ρ t g ∫ Y dA`, both integrated once with the degree-6 rule (exact on curved P2 elements).
+//! Loads linear in the displacement, `Π(u) = E₀ + f·u` with a constant `f = ∂Π/∂u`: gravity, the
+//! d'Alembert forces of the initial rigid motion, the `−α ∇Π(uₙ)` term of HHT-α.
+//!
+//! **Gravity** along −y: `Π_g(u) = ∫_Ω₀ ρ t g (Y + u_y) dA`, the potential energy relative to the
+//! pivot height (`y = 0`): `f_a = ρ t g ∫ N_a dA` on the `y` components and `E₀ = ρ t g ∫ Y dA`,
+//! both integrated once with the degree-6 rule (exact on curved P2 elements).
 
 use super::{StepContext, StepStart, Term};
 use crate::assembly::Pattern;
 use crate::fe::for_each_point;
+use crate::mesh::Mesh;
 use crate::quadrature::TriangleRule;
-use crate::Mesh;
 
-/// Uniform gravity on the body.
+/// A load linear in the displacement (see the module doc).
 #[derive(Clone, Debug)]
-pub struct Gravity {
-    /// `∂Π_g/∂u` (constant) \[N\].
+pub struct Linear {
+    /// `f = ∂Π/∂u` (constant) \[N\].
     pub load_gradient: Vec<f64>,
-    /// `Π_g(0)` \[J\].
+    /// `Π(0)` \[J\].
     pub reference_energy: f64,
 }
 
-impl Gravity {
+/// Uniform gravity on a body: a linear load ([`Linear::gravity`]).
+pub type Gravity = Linear;
+
+impl Linear {
+    /// The load `Π = f·u` of the nodal forces `f`.
+    pub fn new(load_gradient: Vec<f64>) -> Self {
+        Self {
+            load_gradient,
+            reference_energy: 0.0,
+        }
+    }
+
     /// Gravity of magnitude `g` \[m/s²\] on a body of density `rho` and thickness `thickness`.
-    pub fn new(mesh: &Mesh, rho: f64, thickness: f64, g: f64) -> Self {
+    pub fn gravity(mesh: &Mesh, rho: f64, thickness: f64, g: f64) -> Self {
         let mut load_gradient = crate::assembly::written_zeros(2 * mesh.num_nodes());
         let mut reference_energy = 0.0;
         let c = rho * thickness * g;
@@ -36,9 +50,9 @@ impl Gravity {
     }
 }
 
-impl Term for Gravity {
+impl Term for Linear {
     fn name(&self) -> &'static str {
-        "gravity"
+        "linear load"
     }
 
     fn energy(&self, u: &[f64], _cx: &StepContext) -> f64 {
@@ -52,7 +66,7 @@ impl Term for Gravity {
     fn add_hessian(&self, _u: &[f64], _cx: &StepContext, _pattern: &Pattern, _values: &mut [f64]) {}
 
     /// Linear in `u`: the discrete gradient is the gradient (exact energy change, and the moment of
-    /// the weight at the mid-step positions is the exact mid-step value).
+    /// the load at the mid-step positions is the exact mid-step value).
     fn add_discrete_gradient(
         &self,
         _start: &StepStart,

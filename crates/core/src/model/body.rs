@@ -15,15 +15,15 @@
 use std::ops::Range;
 use std::sync::Arc;
 
+use super::shared::{shared, try_shared, Key};
 use crate::config::{self, Config};
+use crate::error::Error;
 use crate::fe::FeCache;
 use crate::material::Material;
 use crate::mesh::{BoundaryEdge, Mesh};
 use crate::post::{NodalStress, StressRecovery};
 use crate::quadrature::TriangleRule;
-use crate::simulation::shared::{shared, try_shared, Key};
 use crate::terms::{Elastic, Gravity};
-use crate::Error;
 
 /// A body to add to a model after the pendulum.
 #[derive(Clone, Debug)]
@@ -107,7 +107,7 @@ impl Body {
 
     /// Builds a body on its `view` of the model's mesh; `key` names the view (the model's mesh and
     /// the body's elements): the element data are shared with the bodies of other models on the
-    /// same view ([`crate::simulation::shared`]).
+    /// same view ([`super::shared`]).
     fn new(
         name: &str,
         view: Mesh,
@@ -133,7 +133,7 @@ impl Body {
             || {
                 (
                     shared(&key.clone().with_f64(&[material.density, thickness, g]), || {
-                        Gravity::new(&view, material.density, thickness, g)
+                        Gravity::gravity(&view, material.density, thickness, g)
                     }),
                     try_shared(&key, || StressRecovery::new(&view)),
                 )
@@ -188,7 +188,7 @@ pub(super) struct Part {
 }
 
 impl Part {
-    /// The key of its view of the model's mesh of key `mesh` ([`crate::simulation::shared`]).
+    /// The key of its view of the model's mesh of key `mesh` ([`super::shared`]).
     pub fn key(&self, mesh: &Key) -> Key {
         mesh.clone().with(&[self.elements.start, self.elements.end])
     }
@@ -250,7 +250,7 @@ fn makeup<'a>(config: &'a Config, others: &'a [BodySpec], k: usize) -> Makeup<'a
 }
 
 /// The bodies on the `parts` of [`parts`] (the pendulum's first, then the `others`'); `mesh` is the
-/// key of the model's mesh ([`crate::simulation::shared`]).
+/// key of the model's mesh ([`super::shared`]).
 pub(super) fn bodies(config: &Config, parts: &[Part], others: &[BodySpec], mesh: &Key) -> Result<Vec<Body>, Error> {
     parts
         .iter()

@@ -57,11 +57,19 @@
 //! about `π χ ω Δt` of its energy per period (first order). In the spirit of Armero and Romero's
 //! energy-dissipative, momentum-conserving schemes; not their formula.
 
-use crate::newmark::State;
+use super::{Iterate, Start, Stepped, TimeScheme, RESIDUAL_TOLERANCE};
+use crate::error::NewtonError;
+use crate::model::State;
+use crate::newton::{NewtonSettings, Solver};
+use crate::rigid::wrap_angle;
+use crate::terms::{DiscreteGradient, Inertia, StepContext, StepStart, Term};
 
-/// The energy-momentum scheme's step formulas.
+/// The energy-momentum scheme with the numerical dissipation `χ` (`time.dissipation`).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EnergyMomentum;
+pub struct EnergyMomentum {
+    /// `χ ∈ [0, 1)`.
+    pub dissipation: f64,
+}
 
 impl EnergyMomentum {
     /// `4/Δt²`, the mass factor of the doubled equation.
@@ -99,4 +107,122 @@ impl EnergyMomentum {
 /// below `solver.energy_tolerance` times this scale ([`crate::newton::Solver::solve`]).
 pub fn energy_scale(kinetic: f64, weight_times_radius: f64, torque: f64) -> f64 {
     kinetic.abs() + weight_times_radius.abs() + std::f64::consts::PI * torque.abs()
+}
+
+impl TimeScheme for EnergyMomentum {
+    fn step(
+        &self,
+        start: &Start,
+        dt: f64,
+        mut u: Vec<f64>,
+        solver: &mut Solver,
+        iterate: Iterate,
+    ) -> Result<Stepped, NewtonError> {
+        let m = start.model;
+        let (state, u0) = (start.state, &start.state.u);
+        let (t0, t_new) = (state.t, state.t + dt);
+        let cx = StepContext {
+            t: t_new,
+            t0,
+            dt,
+            u0,
+            theta0: start.theta,
+            torque: start.held_torque,
+        };
+        let chi = self.dissipation;
+        let inertia = Inertia {
+            mass: &m.mass,
+            pattern: &m.pattern,
+            factor: Self::inertia_factor(dt),
+            predictor: Self::predictor(dt, state),
+        };
+        let mut physical: Vec<(&dyn Term, f64)> = m.body_terms(chi);
+        physical.extend(m.loads().map(|t| (t, 1.0)));
+        // the bodies' terms come first, each body's elastic term before its weight
+        // (`Model::body_terms`); the elastic ones start from the data made for this state
+        let starts: Vec<std::borrow::Cow<[f64]>> = physical
+            .iter()
+            .enumerate()
+            .map(|(k, (t, _))| match start.elastic.get(k / 2) {
+                Some(data) if k % 2 == 0 => std::borrow::Cow::Borrowed(data.as_slice()),
+                _ => std::borrow::Cow::Owned(t.discrete_start(&cx)),
+            })
+            .collect();
+        let discrete: Vec<DiscreteGradient> = physical
+            .iter()
+            .zip(&starts)
+            .map(|(&(term, hessian_factor), data)| DiscreteGradient {
+                term,
+                start: StepStart {
+                    u: u0,
+                    data: data.as_ref(),
+                    dissipation: chi,
+                },
+                gradient_factor: 2.0,
+                hessian_factor,
+            })
+            .collect();
+        let mut terms: Vec<&dyn Term> = vec![&inertia];
+        terms.extend(discrete.iter().map(|t| t as &dyn Term));
+        // the doubled equation carries twice the hinge force
+        let mut lambda = start.lambda.map(|l| 2.0 * l);
+        let weight = m.pendulum_weight();
+        let scale = energy_scale(
+            start.kinetic,
+            weight * m.length_scale(),
+            m.applied_torque(t_new, start.held_torque),
+        );
+        // never below the energy floor: a body that nothing moves (no gravity, no torque, at rest)
+        // has a scale of 0, and its balance could only be met exactly
+        let energy_bound = m.config.solver.energy_tolerance * scale.max(m.energy_floor());
+        let frame_angle = m.projection.angle(&u);
+        let settings = NewtonSettings {
+            tolerance: m.config.solver.tolerance,
+            max_iterations: m.config.solver.max_iterations,
+            residual_tolerance: RESIDUAL_TOLERANCE,
+            load_scale: 2.0 * start.load_scale,
+            length_scale: m.length_scale(),
+            frame_angle,
+            matrix_key: Self::inertia_factor(dt) / (1.0 + chi),
+            reuse: !iterate.fresh_tangent,
+            residual_turn: 0.5 * wrap_angle(frame_angle - m.projection.angle(u0)),
+        };
+        let report = solver.solve(
+            &m.pattern,
+            &terms,
+            &cx,
+            &mut u,
+            &mut lambda,
+            &settings,
+            Some((u0, energy_bound)),
+            iterate.correct,
+        )?;
+        Ok(Stepped {
+            state: Self::correct(dt, state, u),
+            lambda: lambda.map(|l| 0.5 * l),
+            iterations: report.iterations,
+            factorizations: report.factorizations,
+        })
+    }
+
+    /// The midpoint rule turns a rigid body along the chord: `tan(Δφ/2) = Δt ω̄ / 2`.
+    fn turn(&self, phi: f64) -> f64 {
+        2.0 * (0.5 * phi).atan()
+    }
+
+    fn uses_elastic_starts(&self) -> bool {
+        true
+    }
+
+    fn keeps_mean_acceleration(&self) -> bool {
+        true
+    }
+
+    fn retries_uncorrected(&self) -> bool {
+        true
+    }
+
+    fn extrapolates_shape(&self) -> bool {
+        true
+    }
 }

@@ -1,25 +1,35 @@
-//! The [`Model`]: everything that does not change during a run (the configuration, the bodies'
-//! mesh and terms, the sparsity pattern, the mass matrix, the hinge, the torque and the wall), and
-//! the energies, scales and initial state it defines.
+//! The [`Model`]: the full finite-element model, everything that does not change during a run
+//! (the configuration, the bodies' mesh and terms, the sparsity pattern, the mass matrix, the
+//! hinge, the torque and the wall), and the energies, scales and initial state it defines. The
+//! reduced body is built from these operators ([`crate::reduced`]); the stepper
+//! ([`crate::simulation`]) owns a body of either kind.
+//!
+//! Files: `body` (the bodies of a model: the pendulum and the others), `shared` (the operators
+//! that the models of one mesh share), `fingerprint` (what a snapshot of the model is checked
+//! against).
 
 use std::sync::Arc;
 
-use super::shared::{shared, Key};
-use super::{body, snapshot, Body, BodySpec, Fingerprint};
-#[cfg(doc)]
-use super::{Simulation, Snapshot};
+pub mod body;
+pub(crate) mod fingerprint;
+pub mod shared;
+mod state;
+
+pub use body::{Body, BodySpec};
+pub use fingerprint::{fingerprint, Fingerprint};
+pub use shared::forget_shared;
+pub use state::State;
+
 use crate::assembly::{Dirichlet, Pattern};
-use crate::config::{
-    Config, ContactMethod, InitialAcceleration, ModelKind, Scheme, TorqueProfile as ProfileKind, WallKind,
-};
+use crate::config::{Config, ContactMethod, InitialAcceleration, TorqueProfile as ProfileKind, WallKind};
 use crate::constraint::Hinge;
-use crate::newmark::{Newmark, State};
+use crate::error::Error;
+use crate::mesh::Mesh;
 use crate::post::NodalStress;
-use crate::reduced::{ReducedBody, ReducedWall};
 use crate::rigid::RigidProjection;
 use crate::terms::inertia::{BodyMass, MassMatrix};
 use crate::terms::{StepContext, Term, Torque, WallContact};
-use crate::{Error, Mesh};
+use shared::{shared, Key};
 
 /// The name of the hinge boundary.
 pub const HINGE_BOUNDARY: &str = "rotation";
@@ -59,19 +69,19 @@ pub struct Model {
     /// The bodies; the first is the pendulum ([`Model::pendulum`]).
     pub bodies: Vec<Body>,
     /// Fixed sparsity pattern (shared with the models of the same mesh and loads,
-    /// [`super::shared`]).
+    /// [`shared`]).
     pub pattern: Arc<Pattern>,
     /// The fixed degrees of freedom of every body.
     pub fixed: Dirichlet,
     /// The actuator torque, when `[torque]` has a profile other than `"none"` (its profile is the
-    /// configured one, or the value held by [`Simulation::set_torque`]).
+    /// configured one, or the value held by `Simulation::set_torque`).
     pub torque: Option<Torque>,
     /// The contact of the head with the wall: the rigid half-plane (`wall.kind = "rigid"`) or the
     /// face of the deformable block (`"deformable"`); `None` without a wall.
     pub wall: Option<WallContact>,
     /// FNV-1a hashes of the configuration's values (without `time.end`, `[output]` and file paths),
-    /// the mesh and the torque table as read: a [`Snapshot`] made for another model is refused
-    /// ([`Simulation::restore`]).
+    /// the mesh and the torque table as read: a snapshot made for another model is refused
+    /// (`Simulation::restore`).
     pub fingerprint: Fingerprint,
     /// Consistent mass matrix (shared as the pattern).
     pub mass: Arc<MassMatrix>,
@@ -80,24 +90,6 @@ pub struct Model {
     /// Proxy-angle functionals and rigid-body moments of area (of the pendulum; shared as the
     /// pattern).
     pub projection: Arc<RigidProjection>,
-    /// Time integrator.
-    pub newmark: Newmark,
-    /// α of HHT-α (0: the trapezoidal rule).
-    pub hht_alpha: f64,
-    /// The time integration scheme.
-    pub scheme: Scheme,
-    /// The reduced body (`model.kind = "reduced"`), which then carries the dynamics; the fields of
-    /// the full model are reconstructed from it for the outputs.
-    pub reduced: Option<std::sync::Arc<ReducedBody>>,
-    /// The deformable wall reduced beside the reduced body (`model.kind = "reduced"` with
-    /// `wall.kind = "deformable"`, [`crate::reduced::wall`]).
-    pub reduced_wall: Option<std::sync::Arc<ReducedWall>>,
-    /// The reduced body's cache file while it is being written beside the run (a body computed,
-    /// not read): the model waits for it when dropped ([`crate::reduced::cache::build_and_keep`]).
-    pub cache_write: crate::reduced::cache::PendingWrite,
-    /// The nodes of the head's arc (the contact boundary) with a wall, none without: all a
-    /// reduced body rebuilds of the pendulum's fields after each step (the contact reads them).
-    pub contact_nodes: Vec<usize>,
     /// [`Model::length_scale`], computed once (the steps ask for it).
     length: f64,
     /// `[largest nodal gravity force, the pendulum's weight]` \[N\], computed once (every step
@@ -114,18 +106,22 @@ impl Model {
 
     /// As [`Model::new`], with further bodies after the pendulum (see [`body`]).
     pub fn with_bodies(config: &Config, mesh: Mesh, others: &[BodySpec]) -> Result<Self, Error> {
+        Self::build_beside(config, mesh, others, |_| ()).map(|(model, ())| model)
+    }
+
+    /// As [`Model::with_bodies`], running `beside` on another thread while the operators are
+    /// built, with the model's fingerprint (known before the operators): for work that depends
+    /// on the model's inputs alone (a reduced body read from its cache).
+    pub fn build_beside<R: Send>(
+        config: &Config,
+        mesh: Mesh,
+        others: &[BodySpec],
+        beside: impl FnOnce(&Fingerprint) -> R + Send,
+    ) -> Result<(Self, R), Error> {
         config.validate()?;
         // before the bodies are built: a body's mesh view holds every body's nodes, and the
         // block's must not be turned with the pendulum
         check_wall_clearance(config, &mesh)?;
-        let pendulum_mesh = mesh;
-        // a reduced pendulum beside a deformable wall is built from a model of the pendulum
-        // alone, with a rigid face where the block's is (its contact modes and touch points)
-        let twin = (config.model.kind == ModelKind::Reduced && config.wall.kind == WallKind::Deformable).then(|| {
-            let mut c = config.clone();
-            (c.model.kind, c.wall.kind) = (ModelKind::Full, WallKind::Rigid);
-            (c, pendulum_mesh.clone())
-        });
         let mut others = others.to_vec();
         if config.wall.kind == WallKind::Deformable {
             // the contact tutorial's block: a second body, held on its left, top and bottom edges
@@ -147,7 +143,7 @@ impl Model {
                 },
             );
         }
-        let (mesh, parts) = body::parts(config, pendulum_mesh, &others);
+        let (mesh, parts) = body::parts(config, mesh, &others);
         let pendulum_view = &parts[0].view;
         let hinge = Hinge::new(pendulum_view, HINGE_BOUNDARY)?;
         let mut torque = None;
@@ -184,7 +180,7 @@ impl Model {
                 Some(wall)
             }
         };
-        let mut fingerprint = snapshot::fingerprint(config, &mesh, torque.as_ref().and_then(|t| t.table.as_ref()));
+        let mut fingerprint = fingerprint(config, &mesh, torque.as_ref().and_then(|t| t.table.as_ref()));
         for spec in &others {
             // the other bodies' settings are not in the configuration
             let settings = format!(
@@ -214,19 +210,13 @@ impl Model {
         let mass_key = parts.iter().fold(pattern_key.clone(), |k, p| {
             p.key(&k).with_f64(&[p.density, p.thickness])
         });
-        // a reduced pendulum's body from the cache (memory or disk), if it has it
-        let reduced_key = (config.model.kind == ModelKind::Reduced && twin.is_none())
-            .then(|| crate::reduced::cache::key_of(config, fingerprint.mesh, torque.is_some()));
-        // the bodies' terms and the stored reduced body beside the pattern, the mass matrix and
-        // the projection: independent data, made on two threads
-        let ((bodies, stored), ((pattern, mass), projection)) = rayon::join(
+        // the bodies' terms and the work `beside` next to the pattern, the mass matrix and the
+        // projection: independent data, made on two threads
+        let ((bodies, beside), ((pattern, mass), projection)) = rayon::join(
             || {
                 rayon::join(
                     || body::bodies(config, &parts, &others, &mesh_key),
-                    || {
-                        let stored = reduced_key.and_then(crate::reduced::cache::stored);
-                        stored.inspect(|body| body.stress.prepare())
-                    },
+                    || beside(&fingerprint),
                 )
             },
             || {
@@ -245,11 +235,6 @@ impl Model {
             &pattern,
             bodies.iter().flat_map(|b| b.fixed_dofs.iter().copied()).collect(),
         );
-        // α of HHT-α; 0 gives exactly the average-acceleration rule (β = ¼, γ = ½)
-        let hht_alpha = match config.time.scheme {
-            Scheme::Trapezoidal | Scheme::EnergyMomentum => 0.0,
-            Scheme::Hht => config.time.hht_alpha,
-        };
         let mut model = Self {
             config: config.clone(),
             mesh,
@@ -262,13 +247,6 @@ impl Model {
             mass,
             hinge,
             projection,
-            newmark: Newmark::hht(hht_alpha),
-            hht_alpha,
-            scheme: config.time.scheme,
-            reduced: None,
-            reduced_wall: None,
-            cache_write: Default::default(),
-            contact_nodes: Vec::new(),
             length: 0.0,
             gravity_scales: [0.0; 2],
         };
@@ -282,33 +260,7 @@ impl Model {
         ];
         let pendulum = &model.mesh.nodes[model.bodies[0].nodes.clone()];
         model.length = pendulum.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
-        if config.wall.is_present() {
-            model.contact_nodes = model.bodies[0].mesh.nodes_on(CONTACT_BOUNDARY);
-        }
-        if let Some((c, mesh)) = twin {
-            let twin = Model::new(&c, mesh)?;
-            let (body, write) =
-                crate::reduced::cache::load_or_build(&twin, || crate::reduced::basis::for_model(&twin))?;
-            model.cache_write = write;
-            let wall = ReducedWall::build(&model, &body, config.model.contact_modes)?;
-            (model.reduced, model.reduced_wall) = (Some(body), Some(std::sync::Arc::new(wall)));
-        } else if let Some(key) = reduced_key {
-            debug_assert_eq!(
-                key,
-                crate::reduced::cache::key(&model),
-                "the key before the model is the model's"
-            );
-            model.reduced = Some(match stored {
-                Some(body) => body,
-                None => {
-                    let (body, write) =
-                        crate::reduced::cache::build_and_keep(key, || crate::reduced::basis::for_model(&model))?;
-                    model.cache_write = write;
-                    body
-                }
-            });
-        }
-        Ok(model)
+        Ok((model, beside))
     }
 
     /// The number of unknowns of a step of the full model: two displacement components per node
@@ -339,7 +291,7 @@ impl Model {
     }
 
     /// The conservative terms of every body with the factor of their Jacobian in the
-    /// energy-momentum system (`1 + χ` for the strain energy, see [`crate::energy_momentum`]):
+    /// energy-momentum system (`1 + χ` for the strain energy, see [`crate::scheme::energy_momentum`]):
     /// strain energy and gravity, body after body.
     pub fn body_terms(&self, chi: f64) -> Vec<(&dyn Term, f64)> {
         self.bodies
@@ -359,13 +311,13 @@ impl Model {
     }
 
     /// Largest nodal gravity force of any body \[N\].
-    pub(super) fn largest_gravity_force(&self) -> f64 {
+    pub(crate) fn largest_gravity_force(&self) -> f64 {
         self.gravity_scales[0]
     }
 
     /// The pendulum's weight as the sum of its nodal gravity loads \[N\] (the energy balance's
     /// scale).
-    pub(super) fn pendulum_weight(&self) -> f64 {
+    pub(crate) fn pendulum_weight(&self) -> f64 {
         self.gravity_scales[1]
     }
 
@@ -426,7 +378,7 @@ impl Model {
     /// The actuator torque `M(t)` \[N m\] of the `[torque]` section (0 without). With
     /// `torque.follower = false` this is the moment in the reference position; a body turned by `θ`
     /// receives `M cos θ` ([`crate::terms::torque`]).
-    /// A torque `held` as an input (see [`Simulation::set_torque`]) replaces the profile.
+    /// A torque `held` as an input (see `Simulation::set_torque`) replaces the profile.
     pub fn applied_torque(&self, t: f64, held: Option<f64>) -> f64 {
         self.torque
             .as_ref()

@@ -2,12 +2,12 @@
 //! three FNV-1a hashes, how two fingerprints differ in words, and its display.
 
 use crate::config::Config;
+use crate::mesh::Mesh;
 use crate::store::{fnv1a, Fnv};
 use crate::terms::torque::TorqueTable;
-use crate::Mesh;
 
 /// What a model is made of, part by part, as FNV-1a hashes: what determines its dynamics, not the
-/// names of the files it was read from. A [`Snapshot`](super::Snapshot) restores only into a
+/// names of the files it was read from. A snapshot (`crate::simulation::Snapshot`) restores only into a
 /// model with an equal fingerprint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Fingerprint {
@@ -109,10 +109,18 @@ impl std::fmt::Display for Fingerprint {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::super::tests::table_config;
+pub(crate) mod tests {
     use super::*;
+    use crate::config::TorqueProfile;
     use std::path::PathBuf;
+
+    /// The default configuration with a torque table read from `file`.
+    pub(crate) fn table_config(file: &str) -> Config {
+        let mut cfg = Config::default();
+        cfg.torque.profile = TorqueProfile::Table;
+        cfg.torque.file = Some(PathBuf::from(file));
+        cfg
+    }
 
     #[test]
     fn the_fingerprint_ignores_file_paths_but_sees_a_table_value_and_a_moved_mesh_node() {
