@@ -17,8 +17,8 @@ use crate::mesh::Mesh;
 /// (assembly). `vec![0.0; n]` asks the system for zeroed memory, whose pages it maps to one shared
 /// page of zeros on the first read and copies on the first write: with the pool's threads running,
 /// each copy also interrupts every other core to flush its address cache. Written first, each page
-/// is made once: the mass matrix, the gravity loads and the rigid-body functionals so made cut a
-/// reduced run from the disk cache, a process of its own, by a tenth (median of 40 pairs).
+/// is made once, before the threads sum into it (the mass matrix, the gravity loads and the
+/// rigid-body functionals).
 pub fn written_zeros(n: usize) -> Vec<f64> {
     let mut v = Vec::with_capacity(n);
     v.resize(n, 0.0);

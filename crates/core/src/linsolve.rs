@@ -20,11 +20,10 @@
 //! numerically into preallocated storage.
 //!
 //! A simplicial factor's triangular solves run in two halves of its elimination tree side by side
-//! (`linsolve/split.rs`): each core streams 55 % of the tutorial's factor instead of one core all
-//! of it. On 2 cores, the default pendulum at dt = 1 ms: the solves and the hinge's Schur
-//! complement 0.242 → 0.168 ms per Newton iteration (`bench run --set time.dt=0.001`). The sums
-//! into the common ancestors' rows come in another order than in the sequential solve (1e-13 rad
-//! in θ over the tutorial's swing); the result does not depend on the number of threads. The
+//! (`linsolve/split.rs`): a solve streams the factor from memory, and with the split each of two
+//! cores streams 55 % of the tutorial's factor instead of one core all of it. The sums into the
+//! common ancestors' rows come in another order than in the sequential solve (1e-13 rad in θ over
+//! the tutorial's swing); the result does not depend on the number of threads. The
 //! `L D Lᵀ` of an indefinite matrix and a supernodal factor (large meshes, the deformable wall's
 //! system) are solved by faer.
 //!
@@ -168,11 +167,11 @@ impl Cholesky {
     /// head compressed by the contact and its own ringing has modes whose geometric stiffness is
     /// negative and larger than the inertia `M/(βΔt²)` of a step of milliseconds (a transient
     /// dynamic buckling that the physics goes through). The step's equations still have their
-    /// solution; only the Cholesky factorisation of their Jacobian fails. Seed 24's case 18 of
-    /// the robustness campaign (an 821 MPa ring against the deformable wall) was cut back 11
-    /// times to 0.2 s for it, halving until the inertia dominated; with `L D Lᵀ` none (15.8 s
-    /// instead of 18.8 s, the same energy balance). A positive definite matrix takes `L Lᵀ` as
-    /// before, bit for bit.
+    /// solution; only the Cholesky factorisation of their Jacobian fails. Refusing it would halve
+    /// the step until the inertia dominates: seed 24's case 18 of the robustness campaign (an
+    /// 821 MPa ring against the deformable wall) took 11 such cut-backs in its first 0.2 s, and
+    /// takes none with `L D Lᵀ`. A positive definite matrix takes `L Lᵀ`, and its result does not
+    /// depend on the fallback.
     pub fn factor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), Singular> {
         debug_assert_eq!(pattern.nnz(), self.row_idx.len(), "the pattern of Cholesky::new");
         let a = SparseColMatRef::new(symbolic_ref(pattern.n, &self.col_ptr, &self.row_idx), values);

@@ -82,8 +82,8 @@ pub const ROUNDING_FACTOR: f64 = 10.0;
 /// (elastic, inertia, gravity, torque, contact) and of the hinge reaction
 /// (`Solver::forces_in_play`). The internal forces of a stiff body are differences of terms of
 /// size `K |x|` and its stresses differences of strains near zero, so their rounding is far above
-/// `ε` of the force itself; measured stagnation levels reach 1e-9 of the forces in play (see
-/// `tests/robustness.rs`), while an unconverged step leaves a residual of order 1e-3 or more of
+/// `ε` of the force itself; the stagnation levels of `tests/robustness.rs`' cases reach 1e-9 of the
+/// forces in play, while an unconverged step leaves a residual of order 1e-3 or more of
 /// them.
 pub const FORCE_ROUNDING: f64 = 1e-8;
 

@@ -170,12 +170,10 @@ pub struct Solver {
     /// Newton iterations allowed per step (default 40). The tutorial's swing converges in 2–4; a
     /// soft head pressed against a stiff contact converges in 10–40 per impact sub-step
     /// (contractions of 0.5–0.9 per iteration; why is open, see `tests/robustness.rs`), and
-    /// halving such a step does not reduce them. With 20, a sub-step that needed 25 was halved
-    /// again and again: seed 18's case 5 of `tests/robustness.rs` (E = 3 MPa against
-    /// k = 1.6e12 N/m³) spent more than 118 s in its first impact; with 40 it takes 24.8 s and
-    /// the whole run 99 s with one cut-back. A step that fails for another reason fails as before
-    /// (an indefinite tangent, a line search that cannot proceed), and the campaign's twelve CI
-    /// cases took 218.6 s instead of 226.9 s.
+    /// halving such a step does not reduce them: with a lower limit such a sub-step is halved again
+    /// and again (seed 18's case 5 of `tests/robustness.rs`, E = 3 MPa against k = 1.6e12 N/m³,
+    /// needs 25 in a sub-step of its first impact). A step that fails for another reason (an
+    /// indefinite tangent, a line search that cannot proceed) fails as it would with a lower limit.
     pub max_iterations: usize,
     /// How often a failed step may be halved and retried (see [`Cutbacks`]).
     pub max_cutbacks: Cutbacks,

@@ -18,8 +18,9 @@
 //! one that minimises `entries(T) + max(largest subtree, half the rest)`, an estimate of the
 //! entries one thread streams, is kept; its subtrees are packed into the two parts, largest first
 //! into the lighter one. For the tutorial's pendulum (5,454 unknowns, 161,597 entries, AMD
-//! ordering) one thread streams 55 % of the entries. Choosing it costs 0.7 ms (the entries'
-//! indices in the parts' buffers, once), beside 4.4 ms for the ordering and analysis.
+//! ordering) one thread streams 55 % of the entries. Choosing it is one pass over the factor's
+//! structure per symbolic analysis (the entries' indices in the parts' buffers, made once), not
+//! per solve.
 //!
 //! The arithmetic of each column is that of the sequential solve; only the updates of `T`'s rows
 //! are summed in another order (A's, then B's). The result does not depend on the number of

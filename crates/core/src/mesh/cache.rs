@@ -14,7 +14,7 @@
 //! written costs the meshing, nothing else. Files are written under a temporary name and renamed.
 //! The mesh read back equals the generated one exactly (`Mesh: PartialEq`), so a run's results do
 //! not depend on whether its mesh was read or made.
-//!
+
 use std::path::{Path, PathBuf};
 
 use super::{BoundaryEdge, Mesh};

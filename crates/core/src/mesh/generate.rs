@@ -82,8 +82,8 @@ pub fn generate(cfg: &Config) -> Result<Mesh, Error> {
 /// The last mesh [`generate`] made in this process, with the `[geometry]` and `[mesh]` it was made
 /// from: a generated mesh depends on nothing else and the generation is deterministic, so the cases
 /// of a sweep that keep both (a sweep over the start, the time step, the material, the torque) mesh
-/// once, not once each (3 ms of a reduced body's 16 ms per case on the tutorial's pendulum). A mesh
-/// read from `mesh.file` is read every time (the file may change).
+/// once, not once each (the meshing is a sizeable part of a reduced body's case). A mesh read from
+/// `mesh.file` is read every time (the file may change).
 static LAST: std::sync::Mutex<Option<((crate::config::Geometry, crate::config::MeshConfig), Mesh)>> =
     std::sync::Mutex::new(None);
 
