@@ -60,6 +60,60 @@ fn check_wall_clearance(config: &Config, pendulum: &Mesh) -> Result<(), Error> {
     Ok(())
 }
 
+/// The bodies after the pendulum: with `wall.kind = "deformable"` the contact tutorial's block
+/// first (held on its left, top and bottom edges), then `others`.
+fn with_wall_block(config: &Config, others: &[BodySpec]) -> Vec<BodySpec> {
+    let mut all = others.to_vec();
+    if config.wall.kind == WallKind::Deformable {
+        let w = &config.wall;
+        all.insert(
+            0,
+            BodySpec {
+                name: "wall".into(),
+                mesh: crate::mesh::block::wall_block(w),
+                material: crate::config::Material {
+                    youngs_modulus: w.youngs_modulus,
+                    poisson_ratio: w.poisson_ratio,
+                    density: w.density,
+                    ..config.material.clone()
+                },
+                thickness: w.thickness,
+                gravity: true,
+                fixed: vec![crate::mesh::block::FIXED.into()],
+            },
+        );
+    }
+    all
+}
+
+/// The contact of the head's arc (on `pendulum`, the pendulum's view of `mesh`) with the wall of
+/// `config`: the rigid half-plane or the deformable block's face; `None` without a wall.
+fn wall_contact(config: &Config, pendulum: &Mesh, mesh: &Mesh) -> Result<Option<WallContact>, Error> {
+    let (c, g) = (&config.contact, &config.geometry);
+    let mut wall = match config.wall.kind {
+        WallKind::None => return Ok(None),
+        WallKind::Rigid => WallContact::new(
+            pendulum,
+            CONTACT_BOUNDARY,
+            config.wall.x,
+            c.stiffness,
+            g.thickness,
+            c.points_per_edge,
+        )?,
+        WallKind::Deformable => WallContact::deformable(
+            mesh,
+            CONTACT_BOUNDARY,
+            crate::mesh::block::FACE,
+            c.stiffness,
+            g.thickness,
+            c.points_per_edge,
+            0.5 * g.head_radius,
+        )?,
+    };
+    wall.end_point = c.method == ContactMethod::Penalty;
+    Ok(Some(wall))
+}
+
 /// Everything that does not change during a run.
 pub struct Model {
     /// The configuration.
@@ -122,64 +176,19 @@ impl Model {
         // before the bodies are built: a body's mesh view holds every body's nodes, and the
         // block's must not be turned with the pendulum
         check_wall_clearance(config, &mesh)?;
-        let mut others = others.to_vec();
-        if config.wall.kind == WallKind::Deformable {
-            // the contact tutorial's block: a second body, held on its left, top and bottom edges
-            let w = &config.wall;
-            others.insert(
-                0,
-                BodySpec {
-                    name: "wall".into(),
-                    mesh: crate::mesh::block::wall_block(w),
-                    material: crate::config::Material {
-                        youngs_modulus: w.youngs_modulus,
-                        poisson_ratio: w.poisson_ratio,
-                        density: w.density,
-                        ..config.material.clone()
-                    },
-                    thickness: w.thickness,
-                    gravity: true,
-                    fixed: vec![crate::mesh::block::FIXED.into()],
-                },
-            );
-        }
+        let others = with_wall_block(config, others);
         let (mesh, parts) = body::parts(config, mesh, &others);
         let pendulum_view = &parts[0].view;
         let hinge = Hinge::new(pendulum_view, HINGE_BOUNDARY)?;
-        let mut torque = None;
-        if config.torque.profile != ProfileKind::None {
-            let t = Torque::from_config(pendulum_view, HINGE_BOUNDARY, &config.torque)?;
-            t.check_hub_stress(config.geometry.thickness, config.material.youngs_modulus)?;
-            torque = Some(t);
-        }
-        let wall = match config.wall.kind {
-            WallKind::None => None,
-            WallKind::Rigid => {
-                let mut wall = WallContact::new(
-                    pendulum_view,
-                    CONTACT_BOUNDARY,
-                    config.wall.x,
-                    config.contact.stiffness,
-                    config.geometry.thickness,
-                    config.contact.points_per_edge,
-                )?;
-                wall.end_point = config.contact.method == ContactMethod::Penalty;
-                Some(wall)
-            }
-            WallKind::Deformable => {
-                let mut wall = WallContact::deformable(
-                    &mesh,
-                    CONTACT_BOUNDARY,
-                    crate::mesh::block::FACE,
-                    config.contact.stiffness,
-                    config.geometry.thickness,
-                    config.contact.points_per_edge,
-                    0.5 * config.geometry.head_radius,
-                )?;
-                wall.end_point = config.contact.method == ContactMethod::Penalty;
-                Some(wall)
+        let torque = match config.torque.profile {
+            ProfileKind::None => None,
+            _ => {
+                let t = Torque::from_config(pendulum_view, HINGE_BOUNDARY, &config.torque)?;
+                t.check_hub_stress(config.geometry.thickness, config.material.youngs_modulus)?;
+                Some(t)
             }
         };
+        let wall = wall_contact(config, pendulum_view, &mesh)?;
         let mut fingerprint = fingerprint(config, &mesh, torque.as_ref().and_then(|t| t.table.as_ref()));
         for spec in &others {
             // the other bodies' settings are not in the configuration

@@ -101,7 +101,7 @@ mod tests {
             "{e}"
         );
         let e = Table::parse("a,b\n1,2\n1,x\n", "y.csv").unwrap_err().to_string();
-        assert!(e.starts_with("y.csv:3: `x` is not a number"), "{e}");
+        assert!(e.contains("y.csv:3: `x` is not a number"), "{e}");
         let e = Table::parse("a,b\n1,2,3\n", "y.csv").unwrap_err().to_string();
         assert!(e.contains("y.csv:2: 3 values, the header has 2 columns"), "{e}");
         assert!(Table::parse("\n# only a comment\n", "z.csv").is_err());
