@@ -278,3 +278,27 @@ fn a_rubber_reduced_body_in_the_fmu_logs_one_warning_that_it_does_not_apply_and_
         log.borrow()
     );
 }
+
+#[test]
+fn a_mesh_max_size_that_bounds_no_element_logs_the_mesh_warning_and_the_model_builds() {
+    // the tutorial's local sizes are absolute: a larger max_size than the default changes nothing
+    let (mut inst, log) = started(&[("mesh_max_size", 0.1)]);
+    let warnings: Vec<String> = log
+        .borrow()
+        .iter()
+        .filter(|(status, _)| *status == Status::Warning)
+        .map(|(_, m)| m.clone())
+        .collect();
+    assert!(
+        warnings.len() == 1 && warnings[0].contains("mesh.max_size = 0.1 m changes nothing"),
+        "{warnings:?}"
+    );
+    assert_eq!(inst.do_step(0.0, 0.01), Status::Ok, "{:?}", log.borrow());
+    // the default max_size warns of nothing
+    let (_, log) = started(&[]);
+    assert!(
+        log.borrow().iter().all(|(s, _)| *s != Status::Warning),
+        "{:?}",
+        log.borrow()
+    );
+}
