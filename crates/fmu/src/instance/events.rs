@@ -230,8 +230,9 @@ impl Instance {
         }
         let remaining = target - self.time();
         let early = if remaining > reach {
-            // impacts need a wall; without one no snapshots are taken for them
-            let wall = self.sim.as_ref().is_some_and(|sim| sim.model.wall.is_some());
+            // impacts need a wall (`wall_kind` 1 or 2, fixed since initialisation); without one
+            // no snapshots are taken for them
+            let wall = self.value_of(crate::variables::Role::WallKind) as i64 != 0;
             let watch = (settings.early_return_allowed && wall).then(|| {
                 let announced = self.events_mut().state.announced as usize;
                 (announced, from)
