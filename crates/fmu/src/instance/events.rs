@@ -24,8 +24,9 @@
 //!   `impact` falls back to false at the end of the next step, as in the FMI 2.0 FMU.
 //!
 //! An impact whose touch lies in an earlier communication step but whose first penetration (when
-//! the stepper counts it) falls into this one — a touch less than one contact sub-step (72 µs for
-//! the tutorial's swing) before a communication point — is announced at the end of this step.
+//! the stepper counts it) falls into this one — a touch less than one contact sub-step
+//! ([`Simulation::contact_substep`]) before a communication point — is announced at the end of
+//! this step.
 
 use pendulum_fem_core::simulation::{split, ContactEventKind};
 use pendulum_fem_core::{Simulation, Snapshot};

@@ -124,7 +124,7 @@ impl Instance {
     /// instantiated state and initialization mode, the input `tau` until `fmi2Terminate`. The
     /// computed outputs are kept when no value changes: a master that sets the same input again
     /// before it reads (fmpy every step, an iterating master every iteration) does not pay for
-    /// them again (the total energy is a pass over the mesh, 0.27 ms on the tutorial mesh).
+    /// them again (the total energy is a pass over the mesh).
     pub fn set(&mut self, kind: Kind, vrs: &[u32], values: &[f64]) -> Status {
         let function = &self.typed_call("Set", kind);
         if let Err(status) = self.check_phase(function, SET_PHASES) {
