@@ -29,6 +29,7 @@ use std::ffi::{c_char, c_int, c_void};
 use crate::ffi::{c_text, FmiString};
 use crate::instance::{LogSink, Status};
 
+// only named in the documentation's links
 #[cfg(doc)]
 use crate::instance::Instance;
 

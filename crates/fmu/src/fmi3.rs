@@ -33,6 +33,10 @@ use std::ffi::{c_int, c_void};
 use crate::ffi::{c_text, FmiString};
 use crate::instance::{LogSink, Status};
 
+// only named in the documentation's links
+#[cfg(doc)]
+use crate::instance::Instance;
+
 /// `fmi3Instance`.
 type Instance3 = crate::ffi::Component;
 /// `fmi3Boolean` behind a pointer: C99 `bool`, one byte, read as a byte so that any value is safe.
