@@ -7,7 +7,7 @@
 
 use std::time::Instant;
 
-use pendulum_fem_core::{mesh, Config, Simulation};
+use pendulum_fem_core::{Config, Simulation};
 use pendulum_fem_fmu::contact::contact_outputs;
 
 /// CPU time of this process (user + system, all threads) \[s\], from `/proc/self/stat`.
@@ -30,7 +30,7 @@ fn main() {
             let (mut best_wall, mut best_cpu) = (f64::INFINITY, f64::INFINITY);
             let steps = (seconds / dt).round() as usize;
             for _ in 0..repeats {
-                let mut sim = Simulation::from_config(&cfg, mesh::generate(&cfg).expect("mesh")).expect("model");
+                let mut sim = Simulation::build(&cfg).expect("model").simulation;
                 let (start, cpu) = (Instant::now(), cpu_seconds());
                 let mut sum = 0.0;
                 for _ in 0..steps {

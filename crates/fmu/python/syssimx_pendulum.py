@@ -13,9 +13,10 @@ repeat a step bit for bit.
     pendulum = PendulumFMU("pendulum", "target/fmu/PendulumFem.fmu")
     pendulum.set_parameters(theta_start=0.35)
 
-Each snapshot holds one FMU state of the live instance (about 0.6 MB for the default mesh); it is
-freed with the ``FMUStateHandle`` (garbage collection), or left to the process when the instance
-was released first (an FMU state must not outlive its instance's library).
+Each snapshot holds one FMU state of the live instance (the complete fields, so its size grows
+with the mesh); it is freed with the ``FMUStateHandle`` (garbage collection), or left to the
+process when the instance was released first (an FMU state must not outlive its instance's
+library).
 """
 
 from __future__ import annotations

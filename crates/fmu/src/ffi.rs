@@ -1,35 +1,28 @@
-//! The FMI 2.0 C interface: every `fmi2*` function of the standard, exported unmangled from the
-//! shared object (importers such as fmpy resolve all of them when they load it).
+//! The C boundary both FMI versions share: one implementation of every call that FMI 2.0 and
+//! FMI 3.0 have in common, over the [`Instance`]. The modules `fmi2` and `fmi3` export the
+//! standard's functions as thin adapters onto it: each names itself and converts its version's
+//! types (booleans, byte buffers, out-arguments, FMI 3.0's value counts); the checks, the messages
+//! and the state changes are here and in [`Instance`], written once.
 //!
-//! Each function converts its C arguments, runs the call on the [`Instance`] inside
-//! [`std::panic::catch_unwind`] and converts the result back. A panic is logged, returned as
-//! `fmi2Error` and puts the instance into its error state ([`crate::instance::Phase::Error`]): the state may be
-//! half-updated, so every later call but `fmi2Reset` and `fmi2FreeInstance` is refused (and
-//! `fmi2FreeFMUstate`, which only releases the master's memory). Nothing unwinds into the importer.
-//! A null array with a positive length is refused with a message, never read. An `fmi2Component` is a `Box<Instance>` turned into
-//! a raw pointer by `fmi2Instantiate` and back by `fmi2FreeInstance`; an `fmi2FMUstate` likewise a
-//! `Box<FmuState>`. There are no globals: instances are independent.
-//!
-//! Messages go to the importer's logger with the format `"%s"` and the text as its argument (the
-//! logger is variadic; a `%` in a message must never be read as a format).
-//!
-//! Model Exchange is not offered: its functions exist (so that the library loads everywhere) and
-//! return `fmi2Error`.
+//! Every call on an instance runs inside [`std::panic::catch_unwind`] ([`with_instance`]). A panic
+//! is logged, returned as `Error` and puts the instance into its error state
+//! ([`crate::instance::Phase::Error`]): the state may be half-updated, so every later call but
+//! reset and freeing the instance is refused (and freeing an FMU state, which only releases the
+//! master's memory). Nothing unwinds into the importer. A null array with a positive length is
+//! refused with a message, never read. An instance handle (`fmi2Component`, `fmi3Instance`) is a
+//! `Box<Instance>` turned into a raw pointer by the instantiation ([`lifecycle::instantiate`]) and
+//! back by [`lifecycle::free_instance`]; an FMU state handle likewise a `Box<FmuState>`. There are
+//! no globals: instances are independent.
 //!
 //! # Safety
 //!
-//! The functions are `unsafe extern "C"`: the caller (an FMI importer) must follow the FMI 2.0
-//! standard: a component pointer from `fmi2Instantiate` not yet freed, arrays of the given length,
-//! NUL-terminated strings, and no concurrent calls on one instance.
-#![allow(clippy::missing_safety_doc)]
-// the standard's function names
-#![allow(non_snake_case)]
+//! The functions that take pointers are `unsafe`: the caller (an adapter, for its importer) passes
+//! an instance handle from the instantiation not yet freed, arrays of the given length and
+//! NUL-terminated strings, and makes no concurrent calls on one instance.
 
 pub(crate) mod lifecycle;
-mod model_exchange;
 pub(crate) mod pointers;
 pub(crate) mod state;
-mod status;
 pub(crate) mod values;
 
 use std::ffi::{c_char, c_int, c_uint, c_void, CString};
@@ -37,55 +30,18 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use crate::instance::{Instance, Status, LIVE_PHASES};
 
+/// An instance handle: `fmi2Component`, `fmi3Instance`.
 pub(crate) type Component = *mut c_void;
+/// An FMU state handle: `fmi2FMUstate`, `fmi3FMUState`.
 pub(crate) type FmuStatePtr = *mut c_void;
+/// `fmi2ValueReference`, `fmi3ValueReference` (both `unsigned int`).
 pub(crate) type ValueReference = c_uint;
-type Real = f64;
-type Integer = c_int;
-type Boolean = c_int;
-type FmiString = *const c_char;
-type Byte = c_char;
-
-/// `fmi2CallbackLogger`: variadic, called here with `"%s"` and one string.
-type Logger = unsafe extern "C" fn(*mut c_void, FmiString, c_int, FmiString, FmiString, ...);
-
-/// `fmi2CallbackFunctions` (only the logger is used; the other fields give the layout).
-#[repr(C)]
-#[allow(dead_code)]
-pub struct CallbackFunctions {
-    logger: Option<Logger>,
-    allocate_memory: Option<unsafe extern "C" fn(usize, usize) -> *mut c_void>,
-    free_memory: Option<unsafe extern "C" fn(*mut c_void)>,
-    step_finished: Option<unsafe extern "C" fn(*mut c_void, c_int)>,
-    component_environment: *mut c_void,
-}
+/// `fmi2String`, `fmi3String`.
+pub(crate) type FmiString = *const c_char;
 
 /// Text for C: interior NULs (which C cannot carry) become spaces.
 pub(crate) fn c_text(s: &str) -> CString {
     CString::new(s.replace('\0', " ")).expect("no NUL left")
-}
-
-/// A log sink calling the importer's logger with `"%s"`.
-fn log_sink(logger: Option<Logger>, env: *mut c_void, name: &str) -> crate::instance::LogSink {
-    let name = c_text(name);
-    Box::new(move |status: Status, category: &str, message: &str| {
-        if let Some(logger) = logger {
-            let (category, message) = (c_text(category), c_text(message));
-            // SAFETY: the logger is the importer's fmi2CallbackLogger and `env` its component
-            // environment; every string is NUL-terminated and outlives the call, and the one
-            // variadic argument matches the format "%s".
-            unsafe {
-                logger(
-                    env,
-                    name.as_ptr(),
-                    status as c_int,
-                    category.as_ptr(),
-                    c"%s".as_ptr(),
-                    message.as_ptr(),
-                )
-            };
-        }
-    })
 }
 
 /// The panic payload as text.
@@ -106,14 +62,14 @@ pub(crate) fn with_instance(c: Component, what: &str, f: impl FnOnce(&mut Instan
     })
 }
 
-/// Runs `f` on the instance behind `c` in whatever phase it is: `fmi2Error` for a null component; a
-/// caught panic is logged, returned as `fmi2Error` and puts the instance into its error state.
+/// Runs `f` on the instance behind `c` in whatever phase it is: `Error` for a null handle; a caught
+/// panic is logged, returned as `Error` and puts the instance into its error state.
 pub(crate) fn with_instance_in_any_state(c: Component, what: &str, f: impl FnOnce(&mut Instance) -> Status) -> c_int {
     if c.is_null() {
         return Status::Error as c_int;
     }
     let ptr = c.cast::<Instance>();
-    // SAFETY: a non-null component is a live `Box<Instance>` from fmi2Instantiate (the caller's
+    // SAFETY: a non-null handle is a live `Box<Instance>` from the instantiation (the caller's
     // contract), used by one thread at a time; the borrow ends with the closure.
     let result = catch_unwind(AssertUnwindSafe(|| {
         let inst = unsafe { &mut *ptr };

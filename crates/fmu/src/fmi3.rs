@@ -3,12 +3,13 @@
 //! same [`Instance`] (made by `fmi3InstantiateCoSimulation` with its [`crate::instance::Api::Fmi3`]
 //! face: FMI 3.0 names in messages, event mode, impacts as events; see [`crate::instance`]).
 //!
-//! The conversions, the panic guard and the FMU states are the FMI 2.0 layer's (module `ffi`):
-//! each call runs inside [`std::panic::catch_unwind`], a caught panic returns `fmi3Error` and puts
-//! the instance into its error state; a null array with a positive length is refused. What FMI 3.0
-//! adds: typed getters and setters (`Float64`, `Int32`, `Boolean` are this FMU's types; every other
-//! type's answers `fmi3Error` for any value reference), `fmi3Boolean` as one byte (C99 `bool`),
-//! the non-variadic logger `fmi3LogMessageCallback`, event mode and early return in `fmi3DoStep`.
+//! Each function is a thin adapter onto the implementation it shares with the FMI 2.0 functions
+//! (module `ffi`: the panic guard, instantiation, values, FMU states, refusals): a caught panic
+//! returns `fmi3Error` and puts the instance into its error state; a null array with a positive
+//! length is refused. What FMI 3.0 adds: typed getters and setters with a value count
+//! (`Float64`, `Int32`, `Boolean` are this FMU's types; every other type's answers `fmi3Error` for
+//! any value reference), `fmi3Boolean` as one byte (C99 `bool`), the non-variadic logger
+//! `fmi3LogMessageCallback`, event mode and early return in `fmi3DoStep`.
 //! Model Exchange, Scheduled Execution, clocks, configuration mode and derivatives are not
 //! offered: their functions exist (fmpy resolves every symbol) and return `fmi3Error` with a
 //! logged message (the instantiation functions return null).
@@ -27,15 +28,17 @@ mod state;
 mod unsupported;
 mod values;
 
-use std::ffi::{c_char, c_int, c_void};
+use std::ffi::{c_int, c_void};
 
-use crate::ffi::c_text;
+use crate::ffi::{c_text, FmiString};
 use crate::instance::{LogSink, Status};
 
+// only named in the documentation's links
+#[cfg(doc)]
+use crate::instance::Instance;
+
 /// `fmi3Instance`.
-type Instance3 = *mut c_void;
-/// `fmi3String`.
-type FmiString = *const c_char;
+type Instance3 = crate::ffi::Component;
 /// `fmi3Boolean` behind a pointer: C99 `bool`, one byte, read as a byte so that any value is safe.
 type Boolean = u8;
 

@@ -291,8 +291,13 @@ impl Instance {
     /// apply), whether logging is on or not: the step still succeeds.
     pub(crate) fn log_warning(&mut self) {
         if let Some(w) = self.sim.as_mut().and_then(|sim| sim.take_warning()) {
-            (self.log)(Status::Warning, "logStatusWarning", &w);
+            self.warning(&w);
         }
+    }
+
+    /// Logs a warning, whether logging is on or not (the call still succeeds).
+    fn warning(&self, message: &str) {
+        (self.log)(Status::Warning, "logStatusWarning", message);
     }
 
     /// Logs an informative message when logging is on.

@@ -10,14 +10,18 @@
 //! * [`instance`]: an FMU instance in safe Rust (state machine, parameters as configuration
 //!   overrides, `doStep` over the stepper, FMU states as snapshots).
 //! * [`contact`]: the one function that reads the wall and contact outputs.
-//! * `ffi`: the exported `fmi2*` C functions (every one of the standard's), panic-free.
+//! * `ffi`: the C boundary both FMI versions share, panic-free: one implementation of every call
+//!   they have in common (instantiation, freeing, reset, values, FMU states, refusals).
+//! * `fmi2`: the exported `fmi2*` C functions (every one of the standard's), thin adapters onto
+//!   `ffi` and the instance.
 //! * `fmi3`: the exported `fmi3*` C functions of the FMI 3.0 FMU `PendulumFem3` (every one of
-//!   `fmi3Functions.h`), over the same instance and the same conversions; impacts as events.
+//!   `fmi3Functions.h`), likewise; event mode and early return at impacts are FMI 3.0's own.
 //! * [`package`]: the zip archive (used by `xtask` and the tests).
 #![warn(missing_docs)]
 
 pub mod contact;
 mod ffi;
+mod fmi2;
 mod fmi3;
 pub mod instance;
 pub mod package;

@@ -83,6 +83,31 @@ extern "C" {
     fn fmi2GetStatus(c: Component, kind: c_int, value: *mut c_int) -> c_int;
     fn fmi2GetRealStatus(c: Component, kind: c_int, value: *mut f64) -> c_int;
     fn fmi2GetBooleanStatus(c: Component, kind: c_int, value: *mut c_int) -> c_int;
+    fn fmi2EnterEventMode(c: Component) -> c_int;
+    fn fmi2GetDerivatives(c: Component, dx: *mut f64, nx: usize) -> c_int;
+    fn fmi2GetDirectionalDerivative(
+        c: Component,
+        unknown: *const c_uint,
+        n_unknown: usize,
+        known: *const c_uint,
+        n_known: usize,
+        dv_known: *const f64,
+        dv_unknown: *mut f64,
+    ) -> c_int;
+    fn fmi2SetRealInputDerivatives(
+        c: Component,
+        vr: *const c_uint,
+        nvr: usize,
+        order: *const c_int,
+        value: *const f64,
+    ) -> c_int;
+    fn fmi2GetRealOutputDerivatives(
+        c: Component,
+        vr: *const c_uint,
+        nvr: usize,
+        order: *const c_int,
+        value: *mut f64,
+    ) -> c_int;
 }
 
 /// Messages the FMU logged: `(status, message)`.
@@ -121,6 +146,12 @@ struct Fmu {
 impl Fmu {
     /// `fmi2Instantiate` (the instantiated state).
     fn new(name: &str) -> Self {
+        Self::instantiate(name, CO_SIMULATION, &guid()).unwrap_or_else(|log| panic!("fmi2Instantiate failed: {log:?}"))
+    }
+
+    /// `fmi2Instantiate` with `fmu_type` and `guid`: the instance, or what it logged when it
+    /// returned null.
+    fn instantiate(name: &str, fmu_type: c_int, guid: &str) -> Result<Self, Vec<(c_int, String)>> {
         let log: Box<Log> = Box::default();
         let callbacks = CallbackFunctions {
             logger: Some(logger),
@@ -129,22 +160,14 @@ impl Fmu {
             step_finished: None,
             component_environment: (&*log as *const Log).cast_mut().cast(),
         };
-        let (name, guid) = (CString::new(name).unwrap(), CString::new(guid()).unwrap());
+        let (name, guid) = (CString::new(name).unwrap(), CString::new(guid).unwrap());
         // SAFETY: NUL-terminated strings and a callback structure valid for the call; the log it
         // points to lives as long as the instance (both are owned by the returned value).
-        let c = unsafe {
-            fmi2Instantiate(
-                name.as_ptr(),
-                CO_SIMULATION,
-                guid.as_ptr(),
-                c"".as_ptr(),
-                &callbacks,
-                0,
-                0,
-            )
-        };
-        assert!(!c.is_null(), "fmi2Instantiate failed: {:?}", log.borrow());
-        Self { c, log }
+        let c = unsafe { fmi2Instantiate(name.as_ptr(), fmu_type, guid.as_ptr(), c"".as_ptr(), &callbacks, 0, 0) };
+        if c.is_null() {
+            return Err(log.take());
+        }
+        Ok(Self { c, log })
     }
 
     /// Set up at `t0`, initialised with `params` (step mode).
@@ -843,4 +866,89 @@ fn a_torque_input_beyond_the_hubs_limit_is_refused_naming_the_limit_and_changes_
     // the held torque is still the last accepted one
     assert_eq!(fmu.get("tau"), (OK, 0.25));
     assert_eq!(fmu.step(0.01, 0.01), OK, "{:?}", fmu.log);
+}
+
+#[test]
+fn instantiation_refuses_model_exchange_and_another_builds_guid_with_the_reason() {
+    let model_exchange = 0;
+    let log = Fmu::instantiate("me", model_exchange, &guid()).err().expect("refused");
+    assert_eq!(
+        log,
+        [(
+            ERROR,
+            "fmi2Instantiate: this FMU offers Co-Simulation only (fmuType = fmi2CoSimulation)".to_string()
+        )]
+    );
+    let other = "{00000000-0000-0000-0000-000000000000}";
+    let log = Fmu::instantiate("other", CO_SIMULATION, other).err().expect("refused");
+    let expected = format!(
+        "fmi2Instantiate: GUID {other} is not this binary's {} (a modelDescription.xml of another build)",
+        guid()
+    );
+    assert_eq!(log, [(ERROR, expected)]);
+    // no GUID given: nothing to compare, the instance is made
+    let fmu = Fmu::instantiate("no guid", CO_SIMULATION, "").unwrap_or_else(|log| panic!("{log:?}"));
+    fmu.start(0.0, &[]);
+    assert_eq!(fmu.step(0.0, 0.01), OK);
+}
+
+#[test]
+fn functions_this_fmu_does_not_offer_answer_fmi2error_with_the_reason_and_change_nothing() {
+    let fmu = Fmu::started(0.0, &[]);
+    let before = fmu.outputs();
+    fmu.clear_log();
+    let theta = vr("theta");
+    let (mut x, order) = (0.0, 1);
+    let mut s: *const c_char = std::ptr::null();
+    let text = c"x".as_ptr();
+    // SAFETY: every pointer points to one value, with counts of one (or zero for Model Exchange's
+    // state vectors, never read).
+    let calls: [(c_int, &str); 8] = unsafe {
+        [
+            (
+                fmi2EnterEventMode(fmu.c),
+                "fmi2EnterEventMode: this FMU offers Co-Simulation only, not Model Exchange",
+            ),
+            (
+                fmi2GetDerivatives(fmu.c, &mut x, 0),
+                "fmi2GetDerivatives: this FMU offers Co-Simulation only, not Model Exchange",
+            ),
+            (
+                fmi2GetDirectionalDerivative(fmu.c, &theta, 1, &theta, 1, &1.0, &mut x),
+                "fmi2GetDirectionalDerivative: not provided (providesDirectionalDerivative = false)",
+            ),
+            (
+                fmi2SetRealInputDerivatives(fmu.c, &theta, 1, &order, &1.0),
+                "fmi2SetRealInputDerivatives: inputs are held constant (canInterpolateInputs = false)",
+            ),
+            (
+                fmi2GetRealOutputDerivatives(fmu.c, &theta, 1, &order, &mut x),
+                "fmi2GetRealOutputDerivatives: not provided (maxOutputDerivativeOrder = 0)",
+            ),
+            (
+                fmi2CancelStep(fmu.c),
+                "fmi2CancelStep: fmi2DoStep never returns fmi2Pending here",
+            ),
+            (
+                fmi2GetString(fmu.c, &theta, 1, &mut s),
+                "fmi2GetString: this FMU has no String variables",
+            ),
+            (
+                fmi2SetString(fmu.c, &theta, 1, &text),
+                "fmi2SetString: this FMU has no String variables",
+            ),
+        ]
+    };
+    let log = fmu.log.take();
+    let expected: Vec<(c_int, String)> = calls.iter().map(|&(_, m)| (ERROR, m.to_string())).collect();
+    assert_eq!(log, expected, "one message per refused call, in order");
+    for (status, message) in calls {
+        assert_eq!(status, ERROR, "{message}");
+    }
+    assert!(s.is_null(), "no String was written");
+    // SAFETY: no value asked for, so no array is read.
+    let none = unsafe { fmi2GetString(fmu.c, std::ptr::null(), 0, std::ptr::null_mut()) };
+    assert_eq!(none, OK, "no String value asked for: nothing to refuse");
+    assert_eq!(fmu.outputs(), before);
+    assert_eq!(fmu.step(0.0, 0.01), OK, "{:?}", fmu.log);
 }

@@ -8,7 +8,7 @@
 //! does. The references are the files of the CLI binary itself (`pendulum-fem run`, built beside
 //! these tests), stepped by its own step plan.
 
-use pendulum_fem_core::{mesh, Config, Simulation};
+use pendulum_fem_core::{Config, Simulation};
 
 mod common;
 use common::{cli_run, fmu, run_script};
@@ -49,7 +49,7 @@ fn libcosimpy_runs_the_fmu_and_agrees_with_fmpy() {
 fn syssimx_pd_loop_settles_on_the_static_balance_and_rolls_back_exactly() {
     // m and the centre of mass of the default pendulum (the FMU's defaults), from the library
     let cfg = Config::default();
-    let sim = Simulation::from_config(&cfg, mesh::generate(&cfg).expect("mesh")).expect("model");
+    let sim = Simulation::build(&cfg).expect("model").simulation;
     let p = &sim.model.projection;
     // ∫ r dA / A: the centre of mass hangs at (e, −d) in the reference configuration
     let (e, d) = (p.first_moment[0] / p.area, -p.first_moment[1] / p.area);

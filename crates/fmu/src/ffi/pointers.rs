@@ -6,7 +6,8 @@ use std::ffi::CStr;
 use super::FmiString;
 use crate::instance::{Instance, Status};
 
-/// `Err(fmi2Error)`, logged, when an array of `n > 0` values is null.
+/// `Err(Error)`, logged, when an array of `n > 0` values is null (`arrays`: each by name, whether
+/// it is null).
 pub(crate) fn check_arrays(inst: &Instance, what: &str, n: usize, arrays: &[(&str, bool)]) -> Result<(), Status> {
     match arrays.iter().find(|(_, null)| *null) {
         Some((name, _)) if n > 0 => Err(inst.error(&format!("{what}: {name} is null with nvr = {n}"))),

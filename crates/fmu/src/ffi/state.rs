@@ -1,11 +1,10 @@
-//! The exported FMI functions of FMU states: get, set and free a state, and its serialisation to
-//! and from the importer's byte buffers.
+//! FMU states, for both FMI versions: get, set and free a state, and its serialisation to and
+//! from the importer's byte buffers (the adapters pass FMI 2.0's `fmi2Byte` buffers as bytes).
 
 use std::ffi::{c_int, c_void};
 
 use super::pointers::{slice, slice_mut};
-use super::{with_instance, with_instance_in_any_state};
-use super::{Byte, Component, FmuStatePtr};
+use super::{with_instance, with_instance_in_any_state, Component, FmuStatePtr};
 use crate::instance::{FmuState, Status};
 
 /// Stores `state` at `*slot`: into the existing `FmuState` there, or a new one.
@@ -23,12 +22,6 @@ unsafe fn store_state(slot: *mut FmuStatePtr, state: FmuState) {
     }
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetFMUstate(c: Component, state: *mut FmuStatePtr) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe { get_fmu_state(c, "fmi2GetFMUstate", state) }
-}
-
 /// `fmi2GetFMUstate` and `fmi3GetFMUState` (`what`).
 ///
 /// # Safety
@@ -40,19 +33,13 @@ pub(crate) unsafe fn get_fmu_state(c: Component, what: &str, state: *mut FmuStat
         }
         match inst.get_state() {
             Ok(s) => {
-                // SAFETY: `state` is the importer's fmi2FMUstate slot: null or a state of ours.
+                // SAFETY: `state` is the importer's FMU state slot: null or a state of ours.
                 unsafe { store_state(state, s) };
                 Status::Ok
             }
             Err(status) => status,
         }
     })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetFMUstate(c: Component, state: FmuStatePtr) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe { set_fmu_state(c, "fmi2SetFMUstate", state) }
 }
 
 /// `fmi2SetFMUstate` and `fmi3SetFMUState` (`what`).
@@ -64,16 +51,10 @@ pub(crate) unsafe fn set_fmu_state(c: Component, what: &str, state: FmuStatePtr)
         if state.is_null() {
             return inst.error(&format!("{what}: FMUState is null"));
         }
-        // SAFETY: a state made by fmi2GetFMUstate or fmi2DeSerializeFMUstate of this library.
+        // SAFETY: a state made by getting or deserializing a state in this library.
         let s = unsafe { &*state.cast::<FmuState>() };
         inst.set_state(s)
     })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2FreeFMUstate(c: Component, state: *mut FmuStatePtr) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe { free_fmu_state(c, "fmi2FreeFMUstate", state) }
 }
 
 /// `fmi2FreeFMUstate` and `fmi3FreeFMUState` (`what`).
@@ -94,12 +75,6 @@ pub(crate) unsafe fn free_fmu_state(c: Component, what: &str, state: *mut FmuSta
     })
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SerializedFMUstateSize(c: Component, state: FmuStatePtr, size: *mut usize) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe { serialized_size(c, "fmi2SerializedFMUstateSize", state, size) }
-}
-
 /// `fmi2SerializedFMUstateSize` and `fmi3SerializedFMUStateSize` (`what`).
 ///
 /// # Safety
@@ -113,17 +88,6 @@ pub(crate) unsafe fn serialized_size(c: Component, what: &str, state: FmuStatePt
         unsafe { *size = (*state.cast::<FmuState>()).to_bytes().len() };
         Status::Ok
     })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SerializeFMUstate(
-    c: Component,
-    state: FmuStatePtr,
-    serialized: *mut Byte,
-    size: usize,
-) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe { serialize(c, "fmi2SerializeFMUstate", state, serialized.cast::<u8>(), size) }
 }
 
 /// `fmi2SerializeFMUstate` and `fmi3SerializeFMUState` (`what`).
@@ -156,17 +120,6 @@ pub(crate) unsafe fn serialize(
     })
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
-    c: Component,
-    serialized: *const Byte,
-    size: usize,
-    state: *mut FmuStatePtr,
-) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe { deserialize(c, "fmi2DeSerializeFMUstate", serialized.cast::<u8>(), size, state) }
-}
-
 /// `fmi2DeSerializeFMUstate` and `fmi3DeserializeFMUState` (`what`).
 ///
 /// # Safety
@@ -186,7 +139,7 @@ pub(crate) unsafe fn deserialize(
         let bytes = unsafe { slice(serialized, size) };
         match FmuState::from_bytes(bytes) {
             Ok(s) => {
-                // SAFETY: `state` is the importer's fmi2FMUstate slot: null or a state of ours.
+                // SAFETY: `state` is the importer's FMU state slot: null or a state of ours.
                 unsafe { store_state(state, s) };
                 Status::Ok
             }

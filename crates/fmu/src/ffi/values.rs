@@ -1,12 +1,13 @@
-//! The exported FMI functions that read and write variable values (`fmi2Get*`, `fmi2Set*`), and
-//! the derivative functions this FMU does not provide (refused with a message).
+//! Reading and writing variable values, for both FMI versions: the getters and setters of this
+//! FMU's types (FMI 2.0's `Real`, `Integer`, `Boolean`; FMI 3.0's `Float64`, `Int32`, `Boolean`),
+//! each value converted to and from the instance's `f64`, and the answer of a getter or setter of a
+//! type the FMU has no variables of.
 
 use std::ffi::c_int;
 
 use super::pointers::{check_arrays, slice, slice_mut};
-use super::with_instance;
-use super::{Boolean, Component, FmiString, Integer, Real, ValueReference};
-use crate::instance::{Status, GET_PHASES};
+use super::{with_instance, Component, ValueReference};
+use crate::instance::{Status, GET_PHASES, SET_PHASES};
 use crate::variables::Kind;
 
 /// Reads `nvr` values of `kind` and converts them with `convert` into `value` (`what`: the function).
@@ -26,7 +27,7 @@ pub(crate) unsafe fn get_values<T>(
         if let Err(status) = check_arrays(inst, what, nvr, &[("vr", vr.is_null()), ("value", value.is_null())]) {
             return status;
         }
-        // SAFETY: `vr` and `value` are arrays of `nvr` elements (FMI 2.0, 2.1.7).
+        // SAFETY: `vr` and `value` are arrays of `nvr` elements (the caller's contract; checked non-null).
         let (vrs, out) = unsafe { (slice(vr, nvr), slice_mut(value, nvr)) };
         let mut buffer = vec![0.0; nvr];
         let status = inst.get(kind, vrs, &mut buffer);
@@ -56,154 +57,35 @@ pub(crate) unsafe fn set_values<T: Copy>(
         if let Err(status) = check_arrays(inst, what, nvr, &[("vr", vr.is_null()), ("value", value.is_null())]) {
             return status;
         }
-        // SAFETY: `vr` and `value` are arrays of `nvr` elements (FMI 2.0, 2.1.7).
+        // SAFETY: `vr` and `value` are arrays of `nvr` elements (the caller's contract; checked non-null).
         let (vrs, values) = unsafe { (slice(vr, nvr), slice(value, nvr)) };
         let values: Vec<f64> = values.iter().map(|&v| convert(v)).collect();
         inst.set(kind, vrs, &values)
     })
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetReal(c: Component, vr: *const ValueReference, nvr: usize, value: *mut Real) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe { get_values(c, "fmi2GetReal", Kind::Real, vr, nvr, value, |v| v) }
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetInteger(
+/// A getter or setter of a type this FMU has no variables of (`get`: a getter; `arrays`: the
+/// importer's arrays by name, whether each is null): after the phase and null-array checks, `OK`
+/// for no value references, else `Error` with the message `"{what}: {why()}"`.
+pub(crate) fn no_values(
     c: Component,
-    vr: *const ValueReference,
-    nvr: usize,
-    value: *mut Integer,
+    what: &str,
+    get: bool,
+    n: usize,
+    arrays: &[(&str, bool)],
+    why: impl FnOnce() -> String,
 ) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe { get_values(c, "fmi2GetInteger", Kind::Integer, vr, nvr, value, |v| v as Integer) }
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetBoolean(
-    c: Component,
-    vr: *const ValueReference,
-    nvr: usize,
-    value: *mut Boolean,
-) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe {
-        get_values(c, "fmi2GetBoolean", Kind::Boolean, vr, nvr, value, |v| {
-            Boolean::from(v != 0.0)
-        })
-    }
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetString(
-    c: Component,
-    vr: *const ValueReference,
-    nvr: usize,
-    value: *mut FmiString,
-) -> c_int {
-    const WHAT: &str = "fmi2GetString";
-    with_instance(c, WHAT, |inst| {
-        let checked = inst
-            .check_phase(WHAT, GET_PHASES)
-            .and_then(|()| check_arrays(inst, WHAT, nvr, &[("vr", vr.is_null()), ("value", value.is_null())]));
-        match (checked, nvr) {
-            (Err(status), _) => status,
-            (Ok(()), 0) => Status::Ok,
-            (Ok(()), _) => inst.error("fmi2GetString: this FMU has no String variables"),
+    with_instance(c, what, |inst| {
+        let phases = if get { GET_PHASES } else { SET_PHASES };
+        if let Err(status) = inst.check_phase(what, phases) {
+            return status;
         }
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetReal(c: Component, vr: *const ValueReference, nvr: usize, value: *const Real) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe { set_values(c, "fmi2SetReal", Kind::Real, vr, nvr, value, |v| v) }
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetInteger(
-    c: Component,
-    vr: *const ValueReference,
-    nvr: usize,
-    value: *const Integer,
-) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe { set_values(c, "fmi2SetInteger", Kind::Integer, vr, nvr, value, f64::from) }
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetBoolean(
-    c: Component,
-    vr: *const ValueReference,
-    nvr: usize,
-    value: *const Boolean,
-) -> c_int {
-    // SAFETY: forwarded caller contract.
-    unsafe {
-        set_values(c, "fmi2SetBoolean", Kind::Boolean, vr, nvr, value, |v| {
-            f64::from(u8::from(v != 0))
-        })
-    }
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetString(
-    c: Component,
-    vr: *const ValueReference,
-    nvr: usize,
-    value: *const FmiString,
-) -> c_int {
-    const WHAT: &str = "fmi2SetString";
-    with_instance(c, WHAT, |inst| {
-        let checked = inst
-            .check_phase(WHAT, crate::instance::SET_PHASES)
-            .and_then(|()| check_arrays(inst, WHAT, nvr, &[("vr", vr.is_null()), ("value", value.is_null())]));
-        match (checked, nvr) {
-            (Err(status), _) => status,
-            (Ok(()), 0) => Status::Ok,
-            (Ok(()), _) => inst.error("fmi2SetString: this FMU has no String variables"),
+        if let Err(status) = check_arrays(inst, what, n, arrays) {
+            return status;
         }
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
-    c: Component,
-    _unknown: *const ValueReference,
-    _n_unknown: usize,
-    _known: *const ValueReference,
-    _n_known: usize,
-    _dv_known: *const Real,
-    _dv_unknown: *mut Real,
-) -> c_int {
-    with_instance(c, "fmi2GetDirectionalDerivative", |inst| {
-        inst.error("fmi2GetDirectionalDerivative: not provided (providesDirectionalDerivative = false)")
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
-    c: Component,
-    _vr: *const ValueReference,
-    _nvr: usize,
-    _order: *const Integer,
-    _value: *const Real,
-) -> c_int {
-    with_instance(c, "fmi2SetRealInputDerivatives", |inst| {
-        inst.error("fmi2SetRealInputDerivatives: inputs are held constant (canInterpolateInputs = false)")
-    })
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
-    c: Component,
-    _vr: *const ValueReference,
-    _nvr: usize,
-    _order: *const Integer,
-    _value: *mut Real,
-) -> c_int {
-    with_instance(c, "fmi2GetRealOutputDerivatives", |inst| {
-        inst.error("fmi2GetRealOutputDerivatives: not provided (maxOutputDerivativeOrder = 0)")
+        if n == 0 {
+            return Status::Ok;
+        }
+        inst.error(&format!("{what}: {}", why()))
     })
 }

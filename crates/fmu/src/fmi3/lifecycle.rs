@@ -2,12 +2,10 @@
 //! instantiation and freeing, initialisation, event mode, `fmi3DoStep`, termination and reset.
 
 use std::ffi::c_int;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use super::{log_sink, put, Boolean, FmiString, Instance3, LogMessage};
-use crate::ffi::lifecycle::{free_instance, into_component};
-use crate::ffi::pointers::text;
-use crate::ffi::{with_instance, with_instance_in_any_state, ValueReference};
+use crate::ffi::lifecycle::{free_instance, instantiate, reset, set_debug_logging};
+use crate::ffi::{with_instance, ValueReference};
 use crate::instance::{EventSettings, Instance, Status};
 
 #[no_mangle]
@@ -22,10 +20,7 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
     _n_categories: usize,
     _categories: *const FmiString,
 ) -> c_int {
-    with_instance(instance, "fmi3SetDebugLogging", |inst| {
-        inst.logging_on = logging_on;
-        Status::Ok
-    })
+    set_debug_logging(instance, "fmi3SetDebugLogging", logging_on)
 }
 
 #[no_mangle]
@@ -43,17 +38,17 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     log_message: Option<LogMessage>,
     _intermediate_update: *mut std::ffi::c_void,
 ) -> Instance3 {
-    let made = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: the importer passes NUL-terminated strings (or null).
-        let (name, wanted) = unsafe { (text(instance_name), text(instantiation_token)) };
-        let settings = EventSettings {
-            event_mode_used,
-            early_return_allowed,
-        };
-        let inst = Instance::new_fmi3(&name, logging_on, log_sink(log_message, instance_environment), settings);
-        into_component(inst, "fmi3InstantiateCoSimulation: instantiationToken", &wanted)
-    }));
-    made.unwrap_or(std::ptr::null_mut())
+    let settings = EventSettings {
+        event_mode_used,
+        early_return_allowed,
+    };
+    let make = |name: &str| {
+        let log = log_sink(log_message, instance_environment);
+        Some(Instance::new_fmi3(name, logging_on, log, settings))
+    };
+    let what = "fmi3InstantiateCoSimulation: instantiationToken";
+    // SAFETY: the importer passes NUL-terminated strings (or null).
+    unsafe { instantiate(what, instance_name, instantiation_token, make) }
 }
 
 #[no_mangle]
@@ -165,8 +160,5 @@ pub unsafe extern "C" fn fmi3Terminate(instance: Instance3) -> c_int {
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi3Reset(instance: Instance3) -> c_int {
-    with_instance_in_any_state(instance, "fmi3Reset", |inst| {
-        inst.reset();
-        Status::Ok
-    })
+    reset(instance, "fmi3Reset")
 }

@@ -1,5 +1,5 @@
-//! The exported FMI 3.0 functions of FMU states: the FMI 2.0 layer's (module `ffi::state`) under
-//! the FMI 3.0 names; the states carry the FMI 3.0 event part ([`crate::instance::FmuState`]).
+//! The exported FMI 3.0 functions of FMU states: the shared ones (module `ffi::state`) under the
+//! FMI 3.0 names; the states carry the FMI 3.0 event part ([`crate::instance::FmuState`]).
 
 use std::ffi::c_int;
 

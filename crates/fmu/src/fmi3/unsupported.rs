@@ -6,37 +6,35 @@
 use std::ffi::{c_int, c_void};
 
 use super::{log_sink, Boolean, FmiString, Instance3, LogMessage};
-use crate::ffi::pointers::text;
-use crate::ffi::{with_instance, ValueReference};
+use crate::ffi::lifecycle::{instantiate, refused};
+use crate::ffi::ValueReference;
 use crate::instance::{EventSettings, Instance};
-
-/// Refuses `what` on `instance` with `fmi3Error` and the message `"{what}: {why}"`.
-fn refuse(instance: Instance3, what: &str, why: &str) -> c_int {
-    with_instance(instance, what, |inst| inst.error(&format!("{what}: {why}")))
-}
 
 const CO_SIMULATION_ONLY: &str = "this FMU offers Co-Simulation only (fmi3InstantiateCoSimulation), not Model Exchange";
 const NO_CLOCKS: &str = "this FMU has no clocks (no Scheduled Execution)";
 
 /// Logs through `log_message` that `what` is not offered; returns null.
+///
+/// # Safety
+/// `instance_name` is null or NUL-terminated.
 unsafe fn refuse_instantiation(
     what: &str,
     instance_name: FmiString,
     env: *mut c_void,
     log_message: Option<LogMessage>,
 ) -> Instance3 {
-    let _ = std::panic::catch_unwind(|| {
-        // SAFETY: a NUL-terminated name or null.
-        let name = unsafe { text(instance_name) };
+    let make = |name: &str| {
         let settings = EventSettings {
             event_mode_used: false,
             early_return_allowed: false,
         };
-        Instance::new_fmi3(&name, false, log_sink(log_message, env), settings).error(&format!(
+        Instance::new_fmi3(name, false, log_sink(log_message, env), settings).error(&format!(
             "{what}: this FMU offers Co-Simulation only; instantiate it with fmi3InstantiateCoSimulation"
         ));
-    });
-    std::ptr::null_mut()
+        None
+    };
+    // SAFETY: a NUL-terminated name or null; there is no token to compare.
+    unsafe { instantiate(what, instance_name, std::ptr::null(), make) }
 }
 
 #[no_mangle]
@@ -82,16 +80,6 @@ pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
             log_message,
         )
     }
-}
-
-/// Exports each function, refused with `fmi3Error` and the message `"{name}: {reason}"`.
-macro_rules! refused {
-    ($($name:ident($($arg:ident: $t:ty),*) => $why:expr;)*) => {$(
-        #[no_mangle]
-        pub unsafe extern "C" fn $name(instance: Instance3, $($arg: $t),*) -> c_int {
-            refuse(instance, stringify!($name), $why)
-        }
-    )*};
 }
 
 refused! {

@@ -1,15 +1,14 @@
 //! The exported FMI 3.0 getters and setters. `Float64`, `Int32` and `Boolean` are this FMU's types
-//! (the FMI 2.0 `Real`, `Integer` and `Boolean` of the one variable table) and go through the FMI 2.0
-//! layer's conversions; every other type's functions answer `fmi3Error` with a message for any value
-//! reference (there is no variable of that type), `fmi3OK` for none.
+//! (the FMI 2.0 `Real`, `Integer` and `Boolean` of the one variable table) and go through the
+//! shared getters and setters (module `ffi::values`) once the value count is checked; every other
+//! type's functions answer `fmi3Error` with a message for any value reference (there is no variable
+//! of that type), `fmi3OK` for none.
 
 use std::ffi::c_int;
 
 use super::{Boolean, FmiString, Instance3};
-use crate::ffi::pointers::check_arrays;
-use crate::ffi::values::{get_values, set_values};
+use crate::ffi::values::{get_values, no_values, set_values};
 use crate::ffi::{with_instance, ValueReference};
-use crate::instance::{Status, GET_PHASES, SET_PHASES};
 use crate::variables::Kind;
 
 /// `Err(fmi3Error)`, logged, unless there are as many values as value references (every variable
@@ -68,24 +67,15 @@ typed_accessors! {
 /// The answer of a getter or setter of a type this FMU has no variables of (`get`: a getter):
 /// `fmi3OK` for no value references, else `fmi3Error` naming the first.
 fn no_variables_of_type(instance: Instance3, what: &str, get: bool, vr: *const ValueReference, n_vr: usize) -> c_int {
-    with_instance(instance, what, |inst| {
-        let phases = if get { GET_PHASES } else { SET_PHASES };
-        if let Err(status) = inst.check_phase(what, phases) {
-            return status;
-        }
-        if let Err(status) = check_arrays(inst, what, n_vr, &[("valueReferences", vr.is_null())]) {
-            return status;
-        }
-        if n_vr == 0 {
-            return Status::Ok;
-        }
-        // SAFETY: `vr` is an array of `n_vr > 0` value references (checked non-null above).
+    let why = || {
+        // SAFETY: asked for only with `n_vr > 0` value references, checked non-null.
         let first = unsafe { *vr };
-        inst.error(&format!(
-            "{what}: no variable of this type has value reference {first}; this FMU's variables are Float64, \
-             Int32 and Boolean"
-        ))
-    })
+        format!(
+            "no variable of this type has value reference {first}; this FMU's variables are Float64, Int32 and \
+             Boolean"
+        )
+    };
+    no_values(instance, what, get, n_vr, &[("valueReferences", vr.is_null())], why)
 }
 
 macro_rules! absent_accessors {

@@ -24,8 +24,9 @@
 //!   `impact` falls back to false at the end of the next step, as in the FMI 2.0 FMU.
 //!
 //! An impact whose touch lies in an earlier communication step but whose first penetration (when
-//! the stepper counts it) falls into this one — a touch less than one contact sub-step (72 µs for
-//! the tutorial's swing) before a communication point — is announced at the end of this step.
+//! the stepper counts it) falls into this one — a touch less than one contact sub-step
+//! ([`Simulation::contact_substep`]) before a communication point — is announced at the end of
+//! this step.
 
 use pendulum_fem_core::simulation::{split, ContactEventKind};
 use pendulum_fem_core::{Simulation, Snapshot};
@@ -230,8 +231,9 @@ impl Instance {
         }
         let remaining = target - self.time();
         let early = if remaining > reach {
-            // impacts need a wall; without one no snapshots are taken for them
-            let wall = self.sim.as_ref().is_some_and(|sim| sim.model.wall.is_some());
+            // impacts need a wall (`wall_kind` 1 or 2, fixed since initialisation); without one
+            // no snapshots are taken for them
+            let wall = self.value_of(crate::variables::Role::WallKind) as i64 != 0;
             let watch = (settings.early_return_allowed && wall).then(|| {
                 let announced = self.events_mut().state.announced as usize;
                 (announced, from)

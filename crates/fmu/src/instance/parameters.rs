@@ -2,7 +2,8 @@
 //! (configuration overrides by name, the torque input declared), their own checks, and the
 //! simulation built from them when first needed.
 
-use pendulum_fem_core::{mesh, Config, Error, Simulation};
+use pendulum_fem_core::simulation::Built;
+use pendulum_fem_core::{Config, Error, Simulation};
 
 use super::{Instance, Phase, Status, SET_PHASES};
 use crate::variables::{Causality, Kind, Role, VARIABLES};
@@ -73,7 +74,9 @@ impl Instance {
         Ok(())
     }
 
-    /// Builds the simulation if there is none or a parameter changed; errors are logged.
+    /// Builds the simulation if there is none or a parameter changed ([`Simulation::build`], the
+    /// set-up every front end shares); errors are logged, and so is the mesh-size warning of a
+    /// `mesh_max_size` that bounds no element.
     pub(super) fn ensure_sim(&mut self) -> Result<(), Status> {
         if self.sim.is_some() && !self.stale {
             return Ok(());
@@ -82,22 +85,28 @@ impl Instance {
             return Err(self.error(&format!("invalid parameter: {e}")));
         }
         let built = self.config().and_then(|cfg| {
-            let mesh = mesh::generate(&cfg)?;
-            let mut sim = Simulation::from_config(&cfg, mesh)?;
+            let Built {
+                mut simulation,
+                mesh_warning,
+                ..
+            } = Simulation::build(&cfg)?;
             let tau = self.value_of(Role::Tau);
             if tau != 0.0 {
-                sim.set_torque(tau)?;
+                simulation.set_torque(tau)?;
             }
-            Ok(sim)
+            Ok((simulation, mesh_warning))
         });
         match built {
-            Ok(sim) => {
+            Ok((sim, mesh_warning)) => {
                 self.info(&format!(
                     "model built: {} triangles, {} nodes, theta = {} rad",
                     sim.model.mesh.triangles.len(),
                     sim.model.mesh.num_nodes(),
                     sim.theta()
                 ));
+                if let Some(w) = mesh_warning {
+                    self.warning(&w);
+                }
                 self.sim = Some(sim);
                 self.log_warning();
                 self.invalidate();
@@ -115,7 +124,7 @@ impl Instance {
     /// instantiated state and initialization mode, the input `tau` until `fmi2Terminate`. The
     /// computed outputs are kept when no value changes: a master that sets the same input again
     /// before it reads (fmpy every step, an iterating master every iteration) does not pay for
-    /// them again (the total energy is a pass over the mesh, 0.27 ms on the tutorial mesh).
+    /// them again (the total energy is a pass over the mesh).
     pub fn set(&mut self, kind: Kind, vrs: &[u32], values: &[f64]) -> Status {
         let function = &self.typed_call("Set", kind);
         if let Err(status) = self.check_phase(function, SET_PHASES) {

@@ -2,8 +2,8 @@
 
 usage: fmi3_state.py FMU3
 
-With the rigid wall, event mode and early return: step by 0.05 s to the first impact's early return
-(0.2396 s); take the FMU state there (with the continuation of the interrupted internal step) and
+With the rigid wall, event mode and early return: step by 0.05 s to the first impact's early
+return; take the FMU state there (with the continuation of the interrupted internal step) and
 serialise it; go on to 0.6 s through the event mode, recording every output at every point. Then
 (a) set the state on the same instance and (b) deserialise it into a second instance and set it
 there: both replays give the same outputs bit for bit."""

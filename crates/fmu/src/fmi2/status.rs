@@ -3,8 +3,8 @@
 
 use std::ffi::c_int;
 
-use super::with_instance;
-use super::{Boolean, Component, FmiString, Integer, Real};
+use super::{Boolean, FmiString, Integer, Real};
+use crate::ffi::{with_instance, Component};
 use crate::instance::{Phase, Status};
 
 /// The phases in which the `fmi2Get*Status` functions answer.
