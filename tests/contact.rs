@@ -12,16 +12,9 @@ fn tutorial_mesh() -> Mesh {
     mesh::generate(&Config::default()).expect("tutorial mesh")
 }
 
-/// A deterministic pseudo-random field of amplitude `amp`.
-fn wiggle(n: usize, amp: f64, seed: f64) -> Vec<f64> {
-    (0..n)
-        .map(|i| amp * (((i as f64 + seed) * 12.9898).sin() * 43758.5453).fract())
-        .collect()
-}
-
 /// The head pushed by `dx` in x, plus a wiggle.
 fn shifted(mesh: &Mesh, dx: f64, seed: f64) -> Vec<f64> {
-    let mut u = wiggle(2 * mesh.num_nodes(), 2e-6, seed);
+    let mut u = common::wiggle(2 * mesh.num_nodes(), 2e-6, seed);
     for n in 0..mesh.num_nodes() {
         u[2 * n] += dx;
     }
@@ -135,8 +128,8 @@ fn deformable() -> (Mesh, WallContact, usize) {
 /// The head (nodes before `first`) pushed by `dx` and the block's nodes moved by a wiggle of
 /// `amp` (its face bent), plus a small wiggle everywhere.
 fn pressed(mesh: &Mesh, first: usize, dx: f64, amp: f64, seed: f64) -> Vec<f64> {
-    let mut u = wiggle(2 * mesh.num_nodes(), 2e-6, seed);
-    let bend = wiggle(2 * mesh.num_nodes(), amp, seed + 7.0);
+    let mut u = common::wiggle(2 * mesh.num_nodes(), 2e-6, seed);
+    let bend = common::wiggle(2 * mesh.num_nodes(), amp, seed + 7.0);
     for n in 0..mesh.num_nodes() {
         if n < first {
             u[2 * n] += dx;
@@ -338,7 +331,7 @@ fn the_deformable_faces_hessian_pattern_holds_every_entry_it_writes_and_a_contac
     let mut states = vec![pressed(&mesh, first, -5e-5, 1e-6, 3.0)];
     for deg in [-5.0f64, 5.0] {
         let (s, c) = deg.to_radians().sin_cos();
-        let mut u = wiggle(2 * mesh.num_nodes(), 1e-6, deg);
+        let mut u = common::wiggle(2 * mesh.num_nodes(), 1e-6, deg);
         let leftmost = (0..first)
             .map(|n| c * mesh.nodes[n][0] - s * mesh.nodes[n][1])
             .fold(f64::INFINITY, f64::min);

@@ -15,13 +15,6 @@ use pendulum_fem::{mesh, Config, Mesh};
 /// Moment of inertia of the tutorial pendulum about the pivot (shared/reference) \[kg m²\].
 const EXACT_INERTIA: f64 = 0.044226815;
 
-/// A deterministic pseudo-random field of amplitude `amp`.
-fn wiggle(n: usize, amp: f64, seed: f64) -> Vec<f64> {
-    (0..n)
-        .map(|i| amp * (((i as f64 + seed) * 12.9898).sin() * 43758.5453).fract())
-        .collect()
-}
-
 /// The displacement that turns `mesh` rigidly by `phi` about the pivot after deforming it by `deform`.
 fn turned(mesh: &Mesh, phi: f64, deform: &[f64]) -> Vec<f64> {
     let (s, c) = phi.sin_cos();
@@ -127,8 +120,8 @@ fn the_strain_energy_change_equals_the_discrete_work_for_large_rotations() {
                 .into_iter()
                 .enumerate()
             {
-                let u0 = turned(&mesh, phi0, &wiggle(n, amp, k as f64));
-                let u1 = turned(&mesh, phi0 + dphi, &wiggle(n, amp, 10.0 + k as f64));
+                let u0 = turned(&mesh, phi0, &common::wiggle(n, amp, k as f64));
+                let u1 = turned(&mesh, phi0 + dphi, &common::wiggle(n, amp, 10.0 + k as f64));
                 let g = discrete_gradient(&term, &u0, 0.0, &u1, 0.0, 0.0);
                 let du: Vec<f64> = u1.iter().zip(&u0).map(|(a, b)| a - b).collect();
                 let change = term.energy(&u1, &at(&u1, 0.0)) - term.energy(&u0, &at(&u0, 0.0));
@@ -176,8 +169,8 @@ fn the_discrete_gradient_of_a_short_step_matches_finite_differences_at_the_midpo
     let n = 2 * mesh.num_nodes();
     for (model, plane) in materials() {
         let term = elastic(&mesh, model, plane, 1e6);
-        let u0 = turned(&mesh, 0.7, &wiggle(n, 1e-3, 3.0));
-        let w = wiggle(n, 1.0, 7.0);
+        let u0 = turned(&mesh, 0.7, &common::wiggle(n, 1e-3, 3.0));
+        let w = common::wiggle(n, 1.0, 7.0);
         // h = 1e-5: strain increments of 1e-3 (the exact formula of the discrete stress), the
         // midpoint gradient differs by O(|ΔE|²) ~ 1e-6 of the force scale; h = 1e-8: increments of
         // 1e-6 (its Taylor branch), O(1e-12) from the scheme, the finite difference's own error
@@ -209,8 +202,8 @@ fn dissipation_removes_strain_energy_and_keeps_the_moment_free() {
     let mesh = common::hanging_rectangle(0.015, 0.3, 2, 8);
     let n = 2 * mesh.num_nodes();
     let term = elastic(&mesh, MaterialModel::NeoHookean, Plane::Stress, 1e6);
-    let u0 = turned(&mesh, 0.1, &wiggle(n, 1e-4, 1.0));
-    let u1 = turned(&mesh, 0.5, &wiggle(n, 1e-4, 2.0));
+    let u0 = turned(&mesh, 0.1, &common::wiggle(n, 1e-4, 1.0));
+    let u1 = turned(&mesh, 0.5, &common::wiggle(n, 1e-4, 2.0));
     let du: Vec<f64> = u1.iter().zip(&u0).map(|(a, b)| a - b).collect();
     let change = term.energy(&u1, &at(&u1, 0.0)) - term.energy(&u0, &at(&u0, 0.0));
     let conserving = dot(&discrete_gradient(&term, &u0, 0.0, &u1, 0.0, 0.0), &du);
@@ -240,8 +233,8 @@ fn the_torque_and_gravity_discrete_work_is_their_exact_work() {
         };
         let torque = Torque::from_config(&mesh, "rotation", &profile).unwrap();
         for (phi0, dphi) in [(0.0, 0.01), (3.0, 0.3), (-2.0, 1.2)] {
-            let u0 = turned(&mesh, phi0, &wiggle(n, 1e-4, 4.0));
-            let u1 = turned(&mesh, phi0 + dphi, &wiggle(n, 1e-4, 5.0));
+            let u0 = turned(&mesh, phi0, &common::wiggle(n, 1e-4, 4.0));
+            let u1 = turned(&mesh, phi0 + dphi, &common::wiggle(n, 1e-4, 5.0));
             let du: Vec<f64> = u1.iter().zip(&u0).map(|(a, b)| a - b).collect();
             let g = discrete_gradient(&torque, &u0, 0.2, &u1, 0.3, 0.0);
             let work = torque.external_work(&u1, &step_context(&u0, 0.2, 0.3));

@@ -5,8 +5,8 @@
 //! cases per test with the environment variable `FUZZ_CASES`, e.g.
 //! `FUZZ_CASES=2000000 cargo test --release --test fuzz_readers gmsh` (see the README).
 
-#[path = "common/msh.rs"]
-mod msh;
+mod common;
+use common::msh;
 
 use std::sync::OnceLock;
 

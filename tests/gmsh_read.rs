@@ -2,10 +2,8 @@
 //! run bit for bit (up to the run-to-run order of a parallel sum in the reported strain energy), ASCII and binary files agree, a plate with a hole meshed by real Gmsh swings
 //! with the period of the exact rigid compound pendulum, and bad files are errors naming the line.
 
-#[path = "common/msh.rs"]
-mod msh;
-#[path = "common/tools.rs"]
-mod tools;
+mod common;
+use common::{msh, tools};
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -15,13 +13,6 @@ use pendulum_fem::mesh::gmsh_read::{parse_msh, read_msh};
 use pendulum_fem::mesh::{generate, Mesh};
 use pendulum_fem::render::gmsh::write_msh;
 use pendulum_fem::Config;
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("gmsh-read-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn quiet_run(mut config: Config, out: PathBuf) -> RunSummary {
     for flag in [
@@ -52,7 +43,7 @@ fn edge_set(mesh: &Mesh) -> HashSet<([usize; 3], String)> {
 
 #[test]
 fn our_own_msh_reads_back_as_the_same_mesh_and_the_same_motion_bit_for_bit() {
-    let dir = scratch("own");
+    let dir = common::scratch("own");
     let cfg = Config::default();
     let mesh = generate(&cfg).unwrap();
     let file = dir.join("pendulum.msh");
@@ -176,7 +167,7 @@ fn a_plate_with_a_hole_meshed_by_gmsh_swings_with_the_exact_rigid_compound_pendu
     ) {
         return;
     }
-    let dir = scratch("gmsh-plate");
+    let dir = common::scratch("gmsh-plate");
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gmsh_plate_with_hole.py");
     let make = |name: &str, order: &str, binary: &str| {
         let path = dir.join(name);

@@ -4,8 +4,7 @@
 //! mesh, P4 elements refined twice, SciPy's ARPACK shift-invert), their convergence under mesh
 //! refinement, the eigenpairs' checks and the command line.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
 use pendulum_fem::commands::modes::compute;
 use pendulum_fem::modal;
@@ -14,10 +13,6 @@ use pendulum_fem::{Config, Model};
 /// Elastic modes compared with the reference.
 const COMPARED: usize = 8;
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
 fn config(sets: &[&str]) -> Config {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     Config::load(None, &sets).unwrap()
@@ -25,7 +20,7 @@ fn config(sets: &[&str]) -> Config {
 
 /// The reference's elastic frequencies \[Hz\].
 fn ngsolve_hz() -> Vec<f64> {
-    let text = std::fs::read_to_string(root().join("tests/data/ngsolve_modes.json")).unwrap();
+    let text = std::fs::read_to_string(common::root().join("tests/data/ngsolve_modes.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["reference"]["elastic_hz"]
         .as_array()
@@ -196,18 +191,12 @@ fn least_squares_residual(rows: &[Vec<f64>], r: &[f64]) -> f64 {
     dot(&res, &res).sqrt()
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pendulum-fem-modes-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
 /// The real binary writes `modes.json` (the frequencies of the library, to 1e-9: the same
 /// computation, printed with 17 digits), `modes.pvd` with one `.vtu` per mode and `modes.png`.
 #[test]
 fn the_modes_command_writes_json_pvd_and_png_with_the_same_frequencies() {
-    let dir = scratch("cli");
-    let out = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
+    let dir = common::scratch("cli");
+    let out = common::bin()
         .args(["modes", "--n", "8", "-o"])
         .arg(&dir)
         .output()
@@ -251,8 +240,8 @@ fn the_modes_command_writes_json_pvd_and_png_with_the_same_frequencies() {
 #[test]
 fn a_bad_mode_count_fails_naming_the_option_and_the_allowed_range() {
     for bad in ["0", "-3", "51"] {
-        let dir = scratch(&format!("bad{bad}"));
-        let out = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
+        let dir = common::scratch(&format!("bad{bad}")).join("out");
+        let out = common::bin()
             .args(["modes", "--n", bad, "-o"])
             .arg(&dir)
             .output()
@@ -265,10 +254,7 @@ fn a_bad_mode_count_fails_naming_the_option_and_the_allowed_range() {
         );
         assert!(!dir.exists(), "--n {bad} wrote {}", dir.display());
     }
-    let out = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
-        .args(["modes", "--n", "many"])
-        .output()
-        .unwrap();
+    let out = common::bin().args(["modes", "--n", "many"]).output().unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--n"));
 }

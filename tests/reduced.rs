@@ -8,8 +8,9 @@
 //! with the full model at the bars of issue 20, which the measured differences (in the asserts'
 //! messages) meet with a margin of 1.5 to 60.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 const QUIET: [&str; 8] = [
     "--set",
@@ -22,16 +23,10 @@ const QUIET: [&str; 8] = [
     "output.viewer=false",
 ];
 
-fn out_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pendulum-fem-reduced-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
 /// Runs the CLI with `sets` (`key=value`) into a fresh folder and returns it.
 fn run(name: &str, sets: &[&str]) -> PathBuf {
-    let dir = out_dir(name);
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
+    let dir = common::scratch(name);
+    let mut cmd = common::bin();
     cmd.arg("run").args(QUIET).arg("-o").arg(&dir);
     for s in sets {
         cmd.arg("--set").arg(s);
@@ -470,10 +465,10 @@ fn a_soft_reduced_pendulum_runs_through_and_warns_unless_it_stays_within_a_tenth
 
 #[test]
 fn a_second_reduced_run_reads_its_set_up_from_the_disk_cache_and_writes_the_same_results() {
-    let cache = out_dir("cache");
+    let cache = common::scratch("cache");
     let run_in = |cache: &Path, name: &str, sets: &[&str]| {
-        let dir = out_dir(name);
-        let mut cmd = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
+        let dir = common::scratch(name);
+        let mut cmd = common::bin();
         cmd.arg("run")
             .args(QUIET)
             .args(["--set", "model.kind=reduced", "-o"])
@@ -525,7 +520,7 @@ fn a_second_reduced_run_reads_its_set_up_from_the_disk_cache_and_writes_the_same
     );
     // a run with a torque term (its entries in the sparsity pattern change the set-up's rounding)
     // keeps its own body: a run without one, after it in the same cache, still gives `first`
-    let other = out_dir("cache-other");
+    let other = common::scratch("cache-other");
     let (_, d) = run_in(
         &other,
         "cache-torque",

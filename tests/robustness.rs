@@ -40,7 +40,8 @@
 //! Longer than 600 lines because the campaign keeps its record of the cases found and what was
 //! tried on them (the notes before [`KNOWN_OPEN`]) beside the generator that finds them.
 
-use std::path::PathBuf;
+mod common;
+
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -434,12 +435,6 @@ struct Measured {
     seconds: f64,
 }
 
-fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pendulum-fem-robustness-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// Runs `case`, stopping it after `limit` seconds of wall time; `Err` with a description of what
 /// failed.
 fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured, String> {
@@ -573,7 +568,7 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
     } else {
         env_number("ROBUST_FIRST", 0) as usize
     };
-    let root = scratch();
+    let root = common::scratch("cases");
     let next = AtomicUsize::new(first);
     let failures = Mutex::new(Vec::new());
     let measured = Mutex::new(Vec::new());
@@ -711,8 +706,7 @@ fn after_a_blow_the_ringing_of_a_soft_head_converges_in_a_few_iterations_per_ste
     let case = draw(17, 9);
     let mut config = Config::from_toml_str(&case.toml).unwrap();
     config.time.end = 0.3;
-    // its own folder: the campaign removes its scratch folder when it ends
-    let out = std::env::temp_dir().join(format!("pendulum-fem-ringing-{}", std::process::id()));
+    let out = common::scratch("ringing");
     let summary = run(&RunOptions {
         config,
         out: Some(out.clone()),

@@ -21,13 +21,6 @@ fn soft_material(model: MaterialModel) -> Material {
     })
 }
 
-/// A deterministic pseudo-random displacement of amplitude `amp`.
-fn wiggle(n: usize, amp: f64) -> Vec<f64> {
-    (0..n)
-        .map(|i| amp * ((i as f64 * 12.9898).sin() * 43758.5453).fract())
-        .collect()
-}
-
 /// Every seventh degree of freedom, a step of 0.1 µm, 1e-5 relative.
 fn check_term(term: &dyn Term, pattern: &Pattern, u: &[f64], label: &str) {
     let dofs: Vec<usize> = (0..u.len()).step_by(7).collect();
@@ -47,7 +40,7 @@ fn elastic_gradient_and_hessian_match_finite_differences() {
     for model in [MaterialModel::NeoHookean, MaterialModel::SaintVenantKirchhoff] {
         let cache = FeCache::new(&mesh, &TriangleRule::degree4(), 0.01).unwrap();
         let elastic = Elastic::new(soft_material(model), &mesh, cache);
-        let u = wiggle(2 * mesh.num_nodes(), 2e-3);
+        let u = common::wiggle(2 * mesh.num_nodes(), 2e-3, 0.0);
         check_term(&elastic, &pattern, &u, &format!("{model:?}"));
     }
 }
@@ -61,9 +54,9 @@ fn inertia_and_gravity_gradients_match_finite_differences() {
         mass: &mass,
         pattern: &pattern,
         factor: 4e4,
-        predictor: wiggle(2 * mesh.num_nodes(), 1e-3),
+        predictor: common::wiggle(2 * mesh.num_nodes(), 1e-3, 0.0),
     };
-    let u = wiggle(2 * mesh.num_nodes(), 3e-3);
+    let u = common::wiggle(2 * mesh.num_nodes(), 3e-3, 0.0);
     check_term(&inertia, &pattern, &u, "inertia");
     check_term(&Gravity::new(&mesh, 7800.0, 0.01, 9.81), &pattern, &u, "gravity");
 }

@@ -19,12 +19,6 @@ const EXACT_INERTIA: f64 = 0.044226815; // kg m²
 const EXACT_MASS: f64 = 1.084295939; // kg
 const EXACT_D: f64 = 0.1816508467; // m
 
-fn wiggle(n: usize, amp: f64) -> Vec<f64> {
-    (0..n)
-        .map(|i| amp * ((i as f64 * 12.9898).sin() * 43758.5453).fract())
-        .collect()
-}
-
 /// The displacement that turns the configuration `X + deform` rigidly by `phi` about the pivot.
 fn rotated(mesh: &Mesh, phi: f64, deform: &[f64]) -> Vec<f64> {
     let (s, c) = phi.sin_cos();
@@ -69,7 +63,7 @@ fn follower_energy_gradient_and_hessian_match_finite_differences() {
     let mesh = common::hanging_rectangle(0.015, 0.1, 4, 4);
     let term = torque_on(&mesh, TorqueMode::Follower, 2.5);
     for phi in [0.0, 0.7, 2.0, -2.9] {
-        let u = rotated(&mesh, phi, &wiggle(2 * mesh.num_nodes(), 1e-4));
+        let u = rotated(&mesh, phi, &common::wiggle(2 * mesh.num_nodes(), 1e-4, 0.0));
         check_derivatives(&term, &mesh, &u, &format!("follower at {phi} rad"));
     }
 }
@@ -79,7 +73,7 @@ fn fixed_direction_load_gradient_matches_finite_differences_and_has_no_stiffness
     let mesh = common::hanging_rectangle(0.015, 0.1, 4, 4);
     let term = torque_on(&mesh, TorqueMode::Fixed, 2.5);
     assert!(term.hessian_entries().is_empty());
-    let u = rotated(&mesh, 0.8, &wiggle(2 * mesh.num_nodes(), 1e-4));
+    let u = rotated(&mesh, 0.8, &common::wiggle(2 * mesh.num_nodes(), 1e-4, 0.0));
     check_derivatives(&term, &mesh, &u, "fixed");
 }
 
@@ -103,7 +97,7 @@ fn the_generalised_force_has_zero_net_force() {
     for mode in [TorqueMode::Follower, TorqueMode::Fixed] {
         let term = torque_on(&mesh, mode, 3.0);
         for phi in [0.0, 1.2, 3.5] {
-            let u = rotated(&mesh, phi, &wiggle(2 * mesh.num_nodes(), 1e-3));
+            let u = rotated(&mesh, phi, &common::wiggle(2 * mesh.num_nodes(), 1e-3, 0.0));
             let mut g = vec![0.0; u.len()];
             term.add_gradient(&u, &StepContext::at(&u, 0.0, 0.0, None), &mut g);
             let scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
@@ -145,7 +139,11 @@ fn follower_moment_about_the_pivot_is_m_at_every_angle_and_deformation() {
     for deg in [0.0, 30.0, 100.0, 179.0, 200.0, -170.0, 725.0] {
         for amp in [0.0, 2e-4, 2e-3] {
             // a deformation that also bends and stretches the hinge edge
-            let u = rotated(&mesh, f64::to_radians(deg), &wiggle(2 * mesh.num_nodes(), amp));
+            let u = rotated(
+                &mesh,
+                f64::to_radians(deg),
+                &common::wiggle(2 * mesh.num_nodes(), amp, 0.0),
+            );
             let moment = moment_of_gradient(&mesh, &term, &u);
             worst = worst.max((moment / m - 1.0).abs());
         }
@@ -175,7 +173,7 @@ fn fixed_direction_moment_is_m_cos_theta() {
 fn hub_angle_is_exact_for_rigid_rotations_and_continuous_through_180_degrees() {
     let mesh = common::hanging_rectangle(0.015, 0.1, 4, 4);
     let term = torque_on(&mesh, TorqueMode::Follower, 1.0);
-    let deform = wiggle(2 * mesh.num_nodes(), 1e-3);
+    let deform = common::wiggle(2 * mesh.num_nodes(), 1e-3, 0.0);
     let base = term.hub_angle(&deform, &StepContext::at(&deform, 0.0, 0.0, None));
     // rotating a deformed configuration by φ adds exactly φ; each turn of 0.25 rad is a step whose
     // context starts at the previous configuration with its unwrapped angle
@@ -201,7 +199,7 @@ fn the_proxy_angle_stays_continuous_at_a_third_of_a_radian_per_step() {
     use pendulum_fem::rigid::{RigidProjection, Unwrap};
     let mesh = common::hanging_rectangle(0.015, 0.1, 2, 4);
     let proj = RigidProjection::new(&mesh);
-    let deform = wiggle(2 * mesh.num_nodes(), 1e-4);
+    let deform = common::wiggle(2 * mesh.num_nodes(), 1e-4, 0.0);
     let mut unwrap = Unwrap::starting_at(proj.angle(&deform));
     let start = proj.angle(&deform);
     for k in 1..=120 {
@@ -250,16 +248,9 @@ fn profiles_evaluate_as_documented() {
     ));
 }
 
-fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("pendulum-fem-torque-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 #[test]
 fn table_profile_interpolates_linearly_and_holds_its_end_values() {
-    let dir = scratch("table-ok");
+    let dir = common::scratch("table-ok");
     let file = dir.join("torque.csv");
     std::fs::write(&file, "# actuator\ntime_s,torque_Nm\n0.1, 0.0\n0.3,2.0\n\n0.5,-1\n").unwrap();
     let cfg = config::Torque {
@@ -284,7 +275,7 @@ fn table_profile_interpolates_linearly_and_holds_its_end_values() {
 
 #[test]
 fn every_table_defect_is_an_error_naming_the_file_and_line() {
-    let dir = scratch("table-bad");
+    let dir = common::scratch("table-bad");
     let mesh = common::hanging_rectangle(0.015, 0.1, 2, 2);
     let load = |name: &str, text: Option<&str>| -> String {
         let file = dir.join(name);
@@ -545,9 +536,9 @@ fn a_fixed_direction_load_delivers_m_cos_theta() {
 }
 
 fn cli_run(name: &str, sets: &[String]) -> (Vec<String>, Vec<Vec<f64>>) {
-    let dir = scratch(name);
+    let dir = common::scratch(name);
     let out = dir.join("out");
-    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
+    let mut cmd = common::bin();
     cmd.args(["run", "--quiet", "--out"]).arg(&out);
     for s in [
         "time.end=0.1",
@@ -599,7 +590,7 @@ fn step_and_table_profiles_drive_a_run_from_the_command_line() {
     assert!(last[cw] > 0.0, "the torque does work");
     assert!((last[ce] - rows[0][ce] - last[cw]).abs() < 1e-3 * last[cw]);
 
-    let dir = scratch("cli-table-file");
+    let dir = common::scratch("cli-table-file");
     let file = dir.join("drive.csv");
     std::fs::write(&file, "time_s,torque_Nm\n0,0\n0.1,2\n").unwrap();
     let (names, rows) = cli_run(
@@ -632,7 +623,7 @@ fn a_torque_straining_a_soft_hub_past_a_fifth_of_its_modulus_is_refused_through_
         "{} vs {exact}",
         torque.edge_stress(-0.5, 0.01)
     );
-    let dir = scratch("hub");
+    let dir = common::scratch("hub");
     let run = |name: &str, lines: &str| {
         let file = dir.join(format!("{name}.toml"));
         std::fs::write(
@@ -643,7 +634,7 @@ fn a_torque_straining_a_soft_hub_past_a_fifth_of_its_modulus_is_refused_through_
             ),
         )
         .unwrap();
-        std::process::Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
+        common::bin()
             .args(["run", "--config"])
             .arg(&file)
             .arg("--out")

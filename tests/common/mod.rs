@@ -1,10 +1,91 @@
-//! Shared fixtures and mesh checks for the integration tests.
+//! Shared fixtures of the integration tests: the repository's root, fresh scratch folders, the
+//! CLI built for the test, NaN-checking maxima, the exact rigid pendulum, deterministic fields,
+//! mesh checks and the structured fixture of the solver tests. Every test file includes it with
+//! `mod common;`; its submodules hold the helpers of some files only.
 #![allow(dead_code)]
 
+pub mod exact;
+pub mod msh;
+pub mod plate;
+pub mod python;
+pub mod tools;
+
 use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use pendulum_fem::mesh::BoundaryEdge;
 use pendulum_fem::{Config, Mesh};
+
+/// The repository's root (the root package's folder).
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A fresh, empty folder `<test>-<name>-<process>-<n>` under cargo's temporary folder for
+/// integration tests (`target/tmp`): a new one on every call, so that tests running in parallel
+/// threads never share one (`<test>` is the test file's name).
+pub fn scratch(name: &str) -> PathBuf {
+    static CALLS: AtomicUsize = AtomicUsize::new(0);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!(
+        "{}-{name}-{}-{}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id(),
+        CALLS.fetch_add(1, Ordering::SeqCst)
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("scratch folder {}: {e}", dir.display()));
+    dir
+}
+
+/// The `pendulum-fem` binary cargo built for this test, without the job-array variables of Slurm,
+/// PBS and LSF in its environment (`pendulum-fem sweep` reads them to pick its case; a test run
+/// inside such a job must not inherit one).
+pub fn bin() -> Command {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
+    for var in ["SLURM_ARRAY_TASK_ID", "PBS_ARRAY_INDEX", "LSB_JOBINDEX"] {
+        cmd.env_remove(var);
+    }
+    cmd
+}
+
+/// The largest of `values`. Panics when there is none, or on a NaN (which `f64::max` drops, so a
+/// fold with it would pass a NaN result unnoticed).
+#[track_caller]
+pub fn max_of(values: impl IntoIterator<Item = f64>) -> f64 {
+    extreme(values, f64::max, "largest")
+}
+
+/// The smallest of `values`. Panics when there is none, or on a NaN.
+#[track_caller]
+pub fn min_of(values: impl IntoIterator<Item = f64>) -> f64 {
+    extreme(values, f64::min, "smallest")
+}
+
+#[track_caller]
+fn extreme(values: impl IntoIterator<Item = f64>, pick: fn(f64, f64) -> f64, what: &str) -> f64 {
+    let mut found: Option<f64> = None;
+    for (k, v) in values.into_iter().enumerate() {
+        assert!(!v.is_nan(), "the {what} of values that include a NaN (value {k})");
+        found = Some(found.map_or(v, |m| pick(m, v)));
+    }
+    found.unwrap_or_else(|| panic!("the {what} of no values"))
+}
+
+/// The largest `|v|` of `values` (NaN-checked as [`max_of`]).
+#[track_caller]
+pub fn max_abs<'a>(values: impl IntoIterator<Item = &'a f64>) -> f64 {
+    max_of(values.into_iter().map(|v| v.abs()))
+}
+
+/// A deterministic pseudo-random field of `n` values in `(−amp, amp)`: the fractional part of a
+/// sine hash of the index shifted by `seed` (seeds differing by less than `n` overlap, shifted).
+pub fn wiggle(n: usize, amp: f64, seed: f64) -> Vec<f64> {
+    (0..n)
+        .map(|i| amp * (((i as f64 + seed) * 12.9898).sin() * 43758.5453).fract())
+        .collect()
+}
 
 /// Meshes the pendulum of `cfg` and runs it to `time.end`: the simulation and every record (the
 /// initial state first).
