@@ -3,6 +3,7 @@
 //! pendulum).
 
 mod common;
+use common::Extremes;
 
 use pendulum_fem::config::{self, MaterialModel, Plane, Scheme, TorqueProfile as Kind};
 use pendulum_fem::fe::FeCache;
@@ -154,7 +155,7 @@ fn a_rigid_rotation_of_any_size_produces_no_discrete_force() {
             let u1 = turned(&mesh, 0.4 + dphi, &zero);
             let g = discrete_gradient(&term, &u0, 0.0, &u1, 0.0, 0.0);
             // a rotation leaves a strain of rounding size (1e-16), a force of μ·1e-16·area/h
-            let largest = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            let largest = g.iter().map(|v| v.abs()).max_of();
             assert!(
                 largest < 1e-3,
                 "{model:?}: largest force {largest} N for a rigid turn of {dphi} rad"
@@ -179,7 +180,7 @@ fn the_discrete_gradient_of_a_short_step_matches_finite_differences_at_the_midpo
             let u1: Vec<f64> = u0.iter().zip(&w).map(|(a, b)| a + h * b).collect();
             let mid: Vec<f64> = u0.iter().zip(&u1).map(|(a, b)| 0.5 * (a + b)).collect();
             let g = discrete_gradient(&term, &u0, 0.0, &u1, 0.0, 0.0);
-            let scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            let scale = g.iter().map(|v| v.abs()).max_of();
             // the discrete gradient is the gradient at the midpoint up to O(|Δu|²); the central
             // difference with step 1e-7 m is accurate to ~1e-8 of the scale
             for dof in (0..n).step_by(5) {
@@ -259,23 +260,22 @@ use common::simulate as run;
 /// Largest `|E(t) − E(0)|` over the run, with the torque's work taken off \[J\].
 fn energy_error(records: &[StepRecord]) -> f64 {
     let e0 = records[0].total;
-    records
-        .iter()
-        .map(|r| (r.total - e0 - r.torque_work).abs())
-        .fold(0.0, f64::max)
+    records.iter().map(|r| (r.total - e0 - r.torque_work).abs()).max_of()
 }
 
 /// Largest von Mises stress in each window of `width` seconds.
 fn window_maxima(records: &[StepRecord], width: f64) -> Vec<f64> {
-    let mut out: Vec<f64> = Vec::new();
-    for r in &records[1..] {
-        let k = ((r.time - 1e-9) / width).floor() as usize;
-        if out.len() <= k {
-            out.resize(k + 1, 0.0);
-        }
-        out[k] = out[k].max(r.von_mises_max);
-    }
-    out
+    let window = |r: &StepRecord| ((r.time - 1e-9) / width).floor() as usize;
+    let windows = records.last().map_or(0, |r| window(r) + 1);
+    (0..windows)
+        .map(|k| {
+            records[1..]
+                .iter()
+                .filter(|r| window(r) == k)
+                .map(|r| r.von_mises_max)
+                .max_of()
+        })
+        .collect()
 }
 
 fn long_swing(dt: f64) {
@@ -285,7 +285,7 @@ fn long_swing(dt: f64) {
     assert_eq!(cfg.time.scheme, Scheme::EnergyMomentum, "the default scheme");
     let (sim, records) = run(&cfg);
     let windows = window_maxima(&records, 5.0);
-    let kin_max = records.iter().map(|r| r.kinetic).fold(0.0, f64::max);
+    let kin_max = records.iter().map(|r| r.kinetic).max_of();
     let drift = energy_error(&records) / kin_max;
     println!(
         "dt = {dt}: von Mises maxima per 5 s {windows:.4?}; energy error {drift:.2e} of the largest kinetic \
@@ -345,11 +345,8 @@ fn a_free_spin_conserves_energy_and_angular_momentum_at_a_third_of_a_radian_per_
     let (omega0, dt) = (30.0, 0.01);
     let (sim, records) = free_spin(Scheme::EnergyMomentum, 10.0).expect("the spin runs");
     let (e0, l0) = (records[0].total, records[0].angular_momentum);
-    let e_err = records.iter().map(|r| (r.total / e0 - 1.0).abs()).fold(0.0, f64::max);
-    let l_err = records
-        .iter()
-        .map(|r| (r.angular_momentum / l0 - 1.0).abs())
-        .fold(0.0, f64::max);
+    let e_err = records.iter().map(|r| (r.total / e0 - 1.0).abs()).max_of();
+    let l_err = records.iter().map(|r| (r.angular_momentum / l0 - 1.0).abs()).max_of();
     // The steady centrifugal strain energy: the initial state is the static equilibrium of the
     // body under the centrifugal load ρ ω₀² x (the set-up solves it); its hinge force is the
     // centripetal force m ω₀² d of the whole body.
@@ -360,16 +357,10 @@ fn a_free_spin_conserves_energy_and_angular_momentum_at_a_third_of_a_radian_per_
         (hinge / centripetal - 1.0).abs() < 1e-4,
         "hinge {hinge} vs m ω² d {centripetal}"
     );
-    let strain_dev = records
-        .iter()
-        .map(|r| (r.strain / steady - 1.0).abs())
-        .fold(0.0, f64::max);
+    let strain_dev = records.iter().map(|r| (r.strain / steady - 1.0).abs()).max_of();
     // The midpoint rule turns by 2 atan(ω Δt / 2) per step: its phase error.
     let rate = 2.0 * (0.5 * omega0 * dt).atan() / dt;
-    let theta_err = records
-        .iter()
-        .map(|r| (r.theta - rate * r.time).abs())
-        .fold(0.0, f64::max);
+    let theta_err = records.iter().map(|r| (r.theta - rate * r.time).abs()).max_of();
     println!(
         "free spin: energy {e_err:.2e}, angular momentum {l_err:.2e} (relative), strain energy within \
          {strain_dev:.2e} of the steady {steady:.4e} J, θ − {rate:.4} t within {theta_err:.2e} rad \
@@ -395,8 +386,8 @@ fn the_trapezoidal_rule_fails_or_drifts_in_the_free_spin() {
         Err(e) => println!("trapezoidal free spin failed as expected: {e}"),
         Ok((_, records)) => {
             let e0 = records[0].total;
-            let drift = records.iter().map(|r| (r.total / e0 - 1.0).abs()).fold(0.0, f64::max);
-            let strain = records.iter().map(|r| r.strain).fold(0.0, f64::max) / records[0].strain;
+            let drift = records.iter().map(|r| (r.total / e0 - 1.0).abs()).max_of();
+            let strain = records.iter().map(|r| r.strain).max_of() / records[0].strain;
             println!("trapezoidal free spin: energy drift {drift:.2e}, strain energy up to {strain:.1}× the steady");
             assert!(drift > 1e-4 || strain > 2.0, "drift {drift}, strain ×{strain}");
         }
@@ -450,7 +441,7 @@ fn a_soft_pendulum_conserves_energy_and_follows_a_fine_trapezoidal_run() {
     cfg.time.end = 3.0;
     let (_, records) = run(&cfg);
     let e0 = records[0].total.abs();
-    let scale = records.iter().map(|r| r.kinetic).fold(e0, f64::max);
+    let scale = records.iter().map(|r| r.kinetic).max_of().max(e0);
     let err = energy_error(&records) / scale;
     let mut fine = cfg.clone();
     fine.time.scheme = Scheme::Trapezoidal;
@@ -462,7 +453,7 @@ fn a_soft_pendulum_conserves_energy_and_follows_a_fine_trapezoidal_run() {
             let k = (r.time / fine.time.dt).round() as usize;
             (r.theta - reference[k].theta).abs()
         })
-        .fold(0.0, f64::max)
+        .max_of()
         .to_degrees();
     // The second-order phase error of the midpoint rule (the trapezoidal rule has the same): the
     // period grows by (ω Δt)²/12 = 8.4e-5 at ω = 6.35 rad/s, a lag of 2π · 3 s/T · 8.4e-5 rad of
@@ -510,7 +501,7 @@ fn the_acceleration_of_the_frames_is_the_consistent_end_of_step_value() {
     assert!((alpha_field / exact - 1.0).abs() < 1e-5, "{alpha_field} vs {exact}");
     // the hinge carries no acceleration: C a = 0 (to the rounding of the solve, relative to |a|)
     let c = m.hinge.value(&a);
-    let scale = a.iter().fold(0.0f64, |p, q| p.max(q.abs()));
+    let scale = a.iter().map(|v| v.abs()).max_of();
     assert!(c[0].abs().max(c[1].abs()) < 1e-10 * scale, "{c:?} against {scale}");
 }
 
@@ -532,14 +523,14 @@ fn dissipation_damps_the_elastic_ringing_and_leaves_the_swing_alone() {
         let tail = &records[records.len() - 11..];
         tail.windows(3)
             .map(|w| (w[0].strain - 2.0 * w[1].strain + w[2].strain).abs())
-            .fold(0.0, f64::max)
+            .max_of()
     };
     let (ring_plain, ring_damped) = (ringing(&plain), ringing(&damped));
     let swing = plain
         .iter()
         .zip(&damped)
         .map(|(a, b)| (a.theta - b.theta).abs())
-        .fold(0.0, f64::max);
+        .max_of();
     let lost = (damped[0].total - damped.last().unwrap().total) / damped[0].kinetic.max(plain[25].kinetic);
     println!(
         "strain-energy ringing (second difference) over the last 0.1 s: {ring_plain:.3e} J without, {ring_damped:.3e} J with χ = 0.5; \

@@ -3,6 +3,7 @@
 //! with the period of the exact rigid compound pendulum, and bad files are errors naming the line.
 
 mod common;
+use common::Extremes;
 use common::{msh, tools};
 
 use std::collections::HashSet;
@@ -193,7 +194,7 @@ fn a_plate_with_a_hole_meshed_by_gmsh_swings_with_the_exact_rigid_compound_pendu
         .iter()
         .zip(&binary.nodes)
         .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
-        .fold(0.0, f64::max);
+        .max_of();
     assert!(worst < 1e-16, "coordinates differ by {worst:e} m");
     let linear = read_msh(&make("ascii1.msh", "1", "0")).unwrap();
     assert_eq!((ascii.order, linear.order), (2, 1));

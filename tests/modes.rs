@@ -5,6 +5,7 @@
 //! refinement, the eigenpairs' checks and the command line.
 
 mod common;
+use common::Extremes;
 
 use pendulum_fem::commands::modes::compute;
 use pendulum_fem::modal;
@@ -112,7 +113,7 @@ fn the_eigenpairs_have_small_residuals_are_mass_orthonormal_and_keep_the_hinge()
     // and the hinge's mean displacement of every shape, against the shape's largest nodal one
     for phi in &modes.shapes {
         let mean = model.hinge.value(phi);
-        let largest = phi.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let largest = phi.iter().map(|v| v.abs()).max_of();
         assert!(mean[0].hypot(mean[1]) < 1e-12 * largest, "{mean:?} of {largest}");
     }
     // mode 0: ω² at rounding level and the shape a rotation (−y, x) about the pivot

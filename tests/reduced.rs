@@ -9,6 +9,7 @@
 //! messages) meet with a margin of 1.5 to 60.
 
 mod common;
+use common::Extremes;
 
 use std::path::{Path, PathBuf};
 
@@ -55,7 +56,7 @@ fn columns(path: &Path) -> std::collections::HashMap<String, Vec<f64>> {
 
 fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
     assert_eq!(a.len(), b.len());
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).max_of()
 }
 
 /// The warnings a finished run wrote to its `status.json` (the `warnings` array's strings).
@@ -67,7 +68,7 @@ fn warnings(dir: &Path) -> Vec<String> {
 }
 
 fn largest(a: &[f64]) -> f64 {
-    a.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+    a.iter().map(|v| v.abs()).max_of()
 }
 
 #[test]
@@ -89,7 +90,7 @@ fn a_free_spin_of_the_reduced_body_advances_at_exactly_its_rate_and_keeps_energy
         .zip(theta)
         .skip(1)
         .map(|(t, th)| ((th - theta[0]) - 30.0 * t).abs() / (30.0 * t))
-        .fold(0.0, f64::max);
+        .max_of();
     assert!(worst < 1e-9, "θ − θ₀ against 30 t: {worst:e} relative");
     for key in ["total_J", "angular_momentum_kg_m2_s"] {
         let drift = relative_drift(&c[key]);
@@ -114,18 +115,13 @@ fn a_constant_torque_spins_the_reduced_body_up_with_its_momentum_and_energy_exac
     let c = columns(&coarse.join("results.csv"));
     let (t, l) = (&c["time_s"], &c["angular_momentum_kg_m2_s"]);
     // p_θ changes by exactly h M per step
-    let worst = t
-        .iter()
-        .zip(l)
-        .skip(1)
-        .map(|(t, l)| (l - t).abs() / t)
-        .fold(0.0, f64::max);
+    let worst = t.iter().zip(l).skip(1).map(|(t, l)| (l - t).abs() / t).max_of();
     assert!(worst < 1e-9, "L(t) against M t: {worst:e} relative");
     let balance = c["total_J"]
         .iter()
         .zip(&c["torque_work_J"])
         .map(|(e, w)| (e - c["total_J"][0] - w).abs())
-        .fold(0.0, f64::max)
+        .max_of()
         / largest(&c["torque_work_J"]);
     assert!(balance < 1e-9, "energy less the torque's work: {balance:e} of the work");
     // the rotation carries no phase error from the scheme: a ten times finer step turns it by the
@@ -403,7 +399,7 @@ fn the_reduced_largest_von_mises_stress_equals_the_largest_of_all_nodes_bit_for_
     for (name, cfg) in [("steel against the wall", steel), ("soft", soft)] {
         let mesh = pendulum_fem::mesh::generate(&cfg).unwrap();
         let mut sim = Simulation::from_config(&cfg, mesh).unwrap();
-        let mut largest = 0.0f64;
+        let mut all_steps = Vec::new();
         for step in 0..100 {
             sim.step(0.01).unwrap();
             let searched = sim.von_mises_max();
@@ -413,8 +409,9 @@ fn the_reduced_largest_von_mises_stress_equals_the_largest_of_all_nodes_bit_for_
                 all.to_bits(),
                 "{name}, step {step}: {searched} Pa against {all} Pa"
             );
-            largest = largest.max(all);
+            all_steps.push(all);
         }
+        let largest = all_steps.into_iter().max_of();
         assert!(largest > 0.0, "{name}: the stresses were all zero");
     }
 }

@@ -41,6 +41,7 @@
 //! tried on them (the notes before [`KNOWN_OPEN`]) beside the generator that finds them.
 
 mod common;
+use common::Extremes;
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -499,7 +500,7 @@ fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured,
     if let Some((radius, thickness, k)) = case.contact {
         let bound = 2.0 * (summary.energy_scale / (k * thickness * (8.0 / 15.0) * (2.0 * radius).sqrt())).powf(0.4);
         let gap = names.iter().position(|c| c == "gap_m").ok_or("no gap_m column")?;
-        let mut deepest = rows.iter().map(|r| -r[gap]).fold(0.0f64, f64::max);
+        let mut deepest = rows.iter().map(|r| -r[gap]).max_of();
         let events = out.join("events.csv");
         if events.is_file() {
             // the largest penetration of every impact (the event column is text)
@@ -512,7 +513,8 @@ fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured,
                 .ok_or("no max_penetration_m")?;
             for line in lines {
                 let cell = line.split(',').nth(p).ok_or("short events.csv row")?;
-                deepest = deepest.max(cell.parse::<f64>().map_err(|e| format!("events.csv {cell}: {e}"))?);
+                let penetration = cell.parse::<f64>().map_err(|e| format!("events.csv {cell}: {e}"))?;
+                deepest = [deepest, penetration].into_iter().max_of();
             }
         }
         if deepest > bound {

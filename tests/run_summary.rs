@@ -2,6 +2,9 @@
 //! `max |ΔE − W_torque| / scale` with a scale that is never near zero, and a run whose error
 //! exceeds `output.energy_watchdog` stops with an error naming the time and the energies.
 
+mod common;
+use common::Extremes;
+
 use std::path::PathBuf;
 
 use pendulum_fem::commands::run::{run, EnergyAudit, RunOptions, RunSummary};
@@ -44,9 +47,9 @@ fn energy_error_from_csv(dir: &std::path::Path, cfg: &Config) -> (f64, f64) {
     let model = Model::new(cfg, mesh::generate(cfg).unwrap()).unwrap();
     let floor = 1e-3 * model.mass_kg() * 9.81 * model.length_scale();
     let first = &rows[0];
-    let largest_work = rows.iter().map(|r| r[w].abs()).fold(0.0, f64::max);
+    let largest_work = rows.iter().map(|r| r[w].abs()).max_of();
     let scale = floor.max(first[k] + model.potential_range() + largest_work);
-    let defect = rows.iter().map(|r| (r[e] - first[e] - r[w]).abs()).fold(0.0, f64::max);
+    let defect = rows.iter().map(|r| (r[e] - first[e] - r[w]).abs()).max_of();
     (defect, scale)
 }
 
@@ -188,15 +191,9 @@ fn the_largest_von_mises_of_csv_and_summary_is_the_largest_value_of_the_frames_f
     let mut largest_shown = 0.0f64;
     let summary = run_with(&opts, dir, |sim, record| {
         // the nodal field the frames (ParaView, animations, viewer) are made of
-        let shown = sim
-            .model
-            .nodal_stress(&sim.state.u)
-            .von_mises
-            .iter()
-            .copied()
-            .fold(0.0, f64::max);
+        let shown = sim.model.nodal_stress(&sim.state.u).von_mises.iter().copied().max_of();
         assert_eq!(record.von_mises_max, shown, "step {}", record.step);
-        largest_shown = largest_shown.max(shown);
+        largest_shown = [largest_shown, shown].into_iter().max_of();
         Ok(())
     })
     .unwrap();

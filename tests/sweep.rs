@@ -4,6 +4,7 @@
 //! uninterrupted one. The cases are short (`time.end = 0.1` to `0.5`) default runs.
 
 mod common;
+use common::Extremes;
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -82,9 +83,9 @@ fn metrics_from_csv(run: &Path, cfg: &Config) -> [Option<f64>; 8] {
         };
         audit.push(&record);
         period.push(record.time, record.theta);
-        lo = lo.min(record.theta);
-        hi = hi.max(record.theta);
-        vm = vm.max(r[col("von_mises_max_Pa")]);
+        lo = [lo, record.theta].into_iter().min_of();
+        hi = [hi, record.theta].into_iter().max_of();
+        vm = [vm, r[col("von_mises_max_Pa")]].into_iter().max_of();
         its += r[col("newton_iterations")];
     }
     let last = rows.last().unwrap();

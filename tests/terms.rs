@@ -2,6 +2,7 @@
 //! rigid-body invariance of the strain energy.
 
 mod common;
+use common::Extremes;
 
 use pendulum_fem::assembly::Pattern;
 use pendulum_fem::config::{self, MaterialModel};
@@ -105,7 +106,7 @@ fn affine_displacement_passes_the_patch_test() {
         let mut g = vec![0.0; u.len()];
         elastic.add_gradient(&u, &StepContext::at(&u, 0.0, 0.0, None), &mut g);
         let boundary: std::collections::HashSet<usize> = mesh.boundary_edges.iter().flat_map(|e| e.nodes).collect();
-        let scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let scale = g.iter().map(|v| v.abs()).max_of();
         assert!(scale > 0.0);
         for node in 0..mesh.num_nodes() {
             if !boundary.contains(&node) {
@@ -144,6 +145,6 @@ fn rigid_rotation_has_zero_elastic_energy_and_force() {
     assert!(
         g.iter().all(|x| x.abs() < 1e-3),
         "max force {}",
-        g.iter().fold(0.0f64, |a, b| a.max(b.abs()))
+        g.iter().map(|v| v.abs()).max_of()
     );
 }

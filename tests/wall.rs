@@ -4,6 +4,7 @@
 //! gains energy.
 
 mod common;
+use common::Extremes;
 
 use pendulum_fem::config::{ContactMethod, Scheme, WallKind};
 use pendulum_fem::simulation::{ContactEvent, ContactEventKind, StepRecord};
@@ -38,7 +39,7 @@ fn peaks(records: &[StepRecord]) -> Vec<(f64, f64)> {
 /// The largest |E − E₀| over the records, relative to the swing energy.
 fn energy_drift(records: &[StepRecord]) -> f64 {
     let e0 = records[0].total;
-    records.iter().map(|r| (r.total - e0).abs()).fold(0.0, f64::max) / SWING_ENERGY
+    records.iter().map(|r| (r.total - e0).abs()).max_of() / SWING_ENERGY
 }
 
 fn events(events: &[ContactEvent], kind: ContactEventKind) -> Vec<ContactEvent> {
@@ -164,21 +165,13 @@ fn a_compliant_pendulum_flattens_against_the_wall_without_a_failed_step() {
     // `simulate` fails the test on any failed step (after the solver's cut-backs)
     let (sim, records) = common::simulate(&cfg);
     let e0 = records[0].total;
-    let kinetic_max = records.iter().map(|r| r.kinetic).fold(0.0, f64::max);
-    let drift = records.iter().map(|r| (r.total - e0).abs()).fold(0.0, f64::max) / kinetic_max;
+    let kinetic_max = records.iter().map(|r| r.kinetic).max_of();
+    let drift = records.iter().map(|r| (r.total - e0).abs()).max_of() / kinetic_max;
     // the head flattens: the largest strain energy during an impact against the largest away
     // from the wall
     let in_contact = |r: &StepRecord| r.contact.is_some_and(|c| c.gap < 0.0);
-    let strain_contact = records
-        .iter()
-        .filter(|r| in_contact(r))
-        .map(|r| r.strain)
-        .fold(0.0, f64::max);
-    let strain_free = records
-        .iter()
-        .filter(|r| r.time < 0.2)
-        .map(|r| r.strain)
-        .fold(0.0, f64::max);
+    let strain_contact = records.iter().filter(|r| in_contact(r)).map(|r| r.strain).max_of();
+    let strain_free = records.iter().filter(|r| r.time < 0.2).map(|r| r.strain).max_of();
     println!(
         "compliant: {} impacts, energy drift {drift:.2e} of the largest kinetic energy, largest strain energy \
          {strain_contact:.3e} J in contact vs {strain_free:.3e} J swinging free",
@@ -320,7 +313,7 @@ fn inside_an_impact_every_sub_step_keeps_the_energy_balance_and_the_contact_ener
     let cfg = rigid_wall(0.3);
     let (_, substep, inside) = through_the_first_impact(&cfg, 2e-5, SWING_ENERGY);
     let in_contact = inside.iter().filter(|s| s.gap < 0.0).count();
-    let worst = inside.iter().map(|s| s.balance).fold(0.0, f64::max);
+    let worst = inside.iter().map(|s| s.balance).max_of();
     println!(
         "sub-step {substep:e} s; {} steps, {in_contact} in contact; worst energy balance {worst:.2e}",
         inside.len()
@@ -374,7 +367,7 @@ fn a_soft_block_lengthens_the_impacts_sub_step_and_keeps_the_energy_balance() {
     soft.wall.poisson_ratio = 0.45;
     let (_, substep_stiff, _) = through_the_first_impact(&stiff, 1e-3, SWING_ENERGY);
     let (sim, substep_soft, inside) = through_the_first_impact(&soft, 1e-4, SWING_ENERGY);
-    let worst = inside.iter().map(|s| s.balance).fold(0.0, f64::max);
+    let worst = inside.iter().map(|s| s.balance).max_of();
     let end = sim
         .contact_events()
         .iter()
@@ -414,13 +407,9 @@ fn two_hundred_impacts_cost_a_hundred_times_two_impacts() {
         let mut cfg = cfg.clone();
         cfg.time.end = end;
         let (sim, records) = common::simulate(&cfg);
-        let available = records.iter().map(|r| r.kinetic).fold(0.0, f64::max);
+        let available = records.iter().map(|r| r.kinetic).max_of();
         let e0 = records[0].total;
-        let worst = records
-            .iter()
-            .map(|r| (r.total - r.torque_work - e0).abs())
-            .fold(0.0, f64::max)
-            / available;
+        let worst = records.iter().map(|r| (r.total - r.torque_work - e0).abs()).max_of() / available;
         // the cost: the Newton iterations of every (sub)step plus the contact events copied
         let cost = sim.total_iterations + sim.events_copied();
         (sim.impacts(), sim.events_copied(), cost, worst)
@@ -503,7 +492,7 @@ fn a_chattering_impact_is_predicted_from_its_alternation_and_continues_bit_for_b
     // between, with room for rounding to move a few sub-steps by an iteration.
     assert!(iterations <= 800, "{iterations} Newton iterations through the impact");
     // the scheme conserves energy (no gravity, no torque): 1e-12 of it per step
-    let drift = first.iter().map(|r| (r.total - e0).abs()).fold(0.0, f64::max) / e0;
+    let drift = first.iter().map(|r| (r.total - e0).abs()).max_of() / e0;
     assert!(drift < 1e-9, "energy drift {drift:e} of {e0} J");
     sim.restore(&snap).unwrap();
     for (k, expected) in first.iter().enumerate() {

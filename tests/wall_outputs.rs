@@ -7,6 +7,7 @@
 
 mod common;
 use common::tools;
+use common::Extremes;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -565,12 +566,12 @@ fn every_impact_is_resolved_in_impacts_csv_so_identical_impacts_look_identical()
             "{} sub-step rows in the impact {start}–{end}",
             inside.len()
         );
-        peaks.push(inside.iter().map(|&i| h.contact[i]).fold(0.0, f64::max));
+        peaks.push(inside.iter().map(|&i| h.contact[i]).max_of());
     }
     // the three impacts are the same blow (rebound 19.9996° each): their peak contact energies,
     // sampled every 72 µs over a 2.1 ms pulse, agree to the sampling of a smooth peak,
     // about (π²/8)(72/2100)² = 1.4e-3; 1 % allows for the pulse's shape
-    let largest = peaks.iter().cloned().fold(0.0, f64::max);
+    let largest = peaks.iter().cloned().max_of();
     for p in &peaks {
         assert!((p - largest).abs() < 0.01 * largest, "peak contact energies {peaks:?}");
     }
@@ -621,7 +622,7 @@ fn energy_png_draws_identical_impacts_identically_and_overlays_them_on_their_own
         .iter()
         .map(|&x| (base - extent(x, strain.clone(), orange).0) as f64)
         .collect();
-    let tallest = heights.iter().cloned().fold(0.0, f64::max);
+    let tallest = heights.iter().cloned().max_of();
     assert!(
         tallest > 150.0 && heights.iter().all(|&v| v >= 0.95 * tallest),
         "strain spikes {heights:?} px"

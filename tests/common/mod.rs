@@ -50,33 +50,33 @@ pub fn bin() -> Command {
     cmd
 }
 
-/// The largest of `values`. Panics when there is none, or on a NaN (which `f64::max` drops, so a
-/// fold with it would pass a NaN result unnoticed).
-#[track_caller]
-pub fn max_of(values: impl IntoIterator<Item = f64>) -> f64 {
-    extreme(values, f64::max, "largest")
+/// The largest and smallest of an iterator of results, checked: `f64::max` and `f64::min` drop a
+/// NaN (`f64::max(1.0, NaN) = 1.0`), so a fold with them passes a NaN result unnoticed. These
+/// panic on a NaN, and on no values at all (a check over nothing checks nothing).
+pub trait Extremes: Iterator<Item = f64> + Sized {
+    /// The largest value.
+    #[track_caller]
+    fn max_of(self) -> f64 {
+        extreme(self, f64::max, "largest")
+    }
+
+    /// The smallest value.
+    #[track_caller]
+    fn min_of(self) -> f64 {
+        extreme(self, f64::min, "smallest")
+    }
 }
 
-/// The smallest of `values`. Panics when there is none, or on a NaN.
-#[track_caller]
-pub fn min_of(values: impl IntoIterator<Item = f64>) -> f64 {
-    extreme(values, f64::min, "smallest")
-}
+impl<I: Iterator<Item = f64>> Extremes for I {}
 
 #[track_caller]
-fn extreme(values: impl IntoIterator<Item = f64>, pick: fn(f64, f64) -> f64, what: &str) -> f64 {
+fn extreme(values: impl Iterator<Item = f64>, pick: fn(f64, f64) -> f64, what: &str) -> f64 {
     let mut found: Option<f64> = None;
-    for (k, v) in values.into_iter().enumerate() {
+    for (k, v) in values.enumerate() {
         assert!(!v.is_nan(), "the {what} of values that include a NaN (value {k})");
         found = Some(found.map_or(v, |m| pick(m, v)));
     }
     found.unwrap_or_else(|| panic!("the {what} of no values"))
-}
-
-/// The largest `|v|` of `values` (NaN-checked as [`max_of`]).
-#[track_caller]
-pub fn max_abs<'a>(values: impl IntoIterator<Item = &'a f64>) -> f64 {
-    max_of(values.into_iter().map(|v| v.abs()))
 }
 
 /// A deterministic pseudo-random field of `n` values in `(−amp, amp)`: the fractional part of a
@@ -309,7 +309,7 @@ pub fn check_derivatives(
         (e - term.energy(u, &cx)).abs() <= 1e-12 * e.abs().max(1e-12),
         "{label}: fused energy differs"
     );
-    let g_scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let g_scale = g.iter().map(|v| v.abs()).max_of();
     let h = probe.step;
     for &dof in probe.dofs {
         let (mut up, mut um) = (u.to_vec(), u.to_vec());
@@ -329,7 +329,7 @@ pub fn check_derivatives(
         pattern.sym_matvec(&k, &unit, &mut col);
         let k_scale = probe
             .hessian_scale
-            .unwrap_or_else(|| col.iter().fold(0.0f64, |a, b| a.max(b.abs())).max(1e-300));
+            .unwrap_or_else(|| col.iter().map(|v| v.abs()).max_of().max(1e-300));
         for r in 0..n {
             let fd = (gp[r] - gm[r]) / (2.0 * h);
             assert!(
