@@ -393,9 +393,9 @@ fn bench_ngsolve_checks_its_inputs_before_timing_anything() {
     assert!(o.stdout.is_empty());
 }
 
-/// θ of the NGSolve reference `tests/data/NAME` (copied from `shared/reference`) as `(t, θ)`.
+/// θ of the NGSolve reference `tests/data/NAME` (see `tests/data/README.md`) as `(t, θ)`.
 fn ngsolve_theta(name: &str) -> Vec<(f64, f64)> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+    let path = common::root()
         .join("tests/data")
         .join(name);
     let (names, rows) = pendulum_fem::run::csv::read_numeric_csv(&path).unwrap();

@@ -13,8 +13,7 @@ use pendulum_fem::simulation::{Simulation, StepRecord};
 use pendulum_fem::terms::{Elastic, Gravity, StepContext, StepStart, Term, Torque, TorqueMode};
 use pendulum_fem::{mesh, Config, Mesh};
 
-/// Moment of inertia of the tutorial pendulum about the pivot (shared/reference) \[kg m²\].
-const EXACT_INERTIA: f64 = 0.044226815;
+use common::exact;
 
 /// The displacement that turns `mesh` rigidly by `phi` about the pivot after deforming it by `deform`.
 fn turned(mesh: &Mesh, phi: f64, deform: &[f64]) -> Vec<f64> {
@@ -357,7 +356,7 @@ fn a_free_spin_conserves_energy_and_angular_momentum_at_a_third_of_a_radian_per_
     // body under the centrifugal load ρ ω₀² x (the set-up solves it); its hinge force is the
     // centripetal force m ω₀² d of the whole body.
     let steady = records[0].strain;
-    let centripetal = sim.model.mass_kg() * omega0 * omega0 * 0.1816508466954;
+    let centripetal = exact::MASS * omega0 * omega0 * exact::CENTROID_DISTANCE;
     let hinge = records[0].hinge_force[0].hypot(records[0].hinge_force[1]);
     assert!(
         (hinge / centripetal - 1.0).abs() < 1e-4,
@@ -423,14 +422,14 @@ fn a_constant_torque_spins_the_pendulum_up_with_its_work_as_energy() {
     let (mut worst, mut worst_t) = (0.0f64, 0.0);
     let mut phase_ok = true;
     for r in records.iter().filter(|r| r.time >= 0.1 - 1e-12) {
-        let exact = 0.5 / EXACT_INERTIA * r.time * r.time;
+        let exact = 0.5 / exact::INERTIA * r.time * r.time;
         let rel = (r.theta / exact - 1.0).abs();
         if rel > worst {
             (worst, worst_t) = (rel, r.time);
         }
         // Energy exactness fixes ½ I ω_d² = M θ; the midpoint rule's chord makes the delivered
         // moment M (1 − Δθ²/12), so θ lags by (ω Δt)²/18 at the end of a uniform spin-up from rest.
-        let omega = r.time / EXACT_INERTIA;
+        let omega = r.time / exact::INERTIA;
         phase_ok &= rel <= (omega * cfg.time.dt).powi(2) / 18.0 * 1.05 + 1e-4;
     }
     println!(
@@ -500,7 +499,7 @@ fn the_acceleration_of_the_frames_is_the_consistent_end_of_step_value() {
         .sum();
     let alpha_field = moment / x.iter().zip(&mx).map(|(p, q)| p * q).sum::<f64>();
     // the rigid pendulum: α = −(m g d / I) sin θ (steel: rigid to 1e-8)
-    let exact = -(m.mass_kg() * 9.81 * 0.1816508466954 / EXACT_INERTIA) * last.theta.sin();
+    let exact = -(exact::MASS * 9.81 * exact::CENTROID_DISTANCE / exact::INERTIA) * last.theta.sin();
     println!(
         "α: field {alpha_field:.9}, CSV {:.9}, rigid {exact:.9} rad/s²",
         last.alpha

@@ -7,7 +7,7 @@ use common::Extremes;
 use common::{msh, tools};
 
 use std::collections::HashSet;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use pendulum_fem::commands::run::{run, RunOptions, RunSummary};
 use pendulum_fem::mesh::gmsh_read::{parse_msh, read_msh};
@@ -169,7 +169,7 @@ fn a_plate_with_a_hole_meshed_by_gmsh_swings_with_the_exact_rigid_compound_pendu
         return;
     }
     let dir = common::scratch("gmsh-plate");
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gmsh_plate_with_hole.py");
+    let script = common::root().join("tests/data/gmsh_plate_with_hole.py");
     let make = |name: &str, order: &str, binary: &str| {
         let path = dir.join(name);
         let o = std::process::Command::new("python3")

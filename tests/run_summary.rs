@@ -142,11 +142,11 @@ fn the_energy_scale_floor_is_a_thousandth_of_lifting_the_body_by_its_length() {
 #[test]
 fn the_energy_scale_is_the_available_energy_from_the_first_step_on() {
     // the tutorial's pendulum at 20°: d = 0.18165 m, m = 1.0843 kg; the centroid can move from
-    // h₀ = −d cos 20° up to +d, so m g (d + d cos 20°) = 3.748 J (exact geometry values from
-    // shared/reference; the mesh's area and first moment agree to 5e-7, hence 1e-5)
+    // h₀ = −d cos 20° up to +d, so m g (d + d cos 20°) (the exact rigid values of
+    // tests/data/README.md; the mesh's area and first moment agree to 5e-7, hence 1e-5)
     let cfg = Config::default();
     let model = Model::new(&cfg, mesh::generate(&cfg).unwrap()).unwrap();
-    let (m, d) = (1.084295939, 0.1816508466954);
+    let (m, d) = (common::exact::MASS, common::exact::CENTROID_DISTANCE);
     let exact = m * 9.81 * d * (1.0 + 20f64.to_radians().cos());
     assert!(
         (model.potential_range() - exact).abs() < 1e-5 * exact,

@@ -15,10 +15,7 @@ use pendulum_fem::simulation::{Simulation, StepRecord, HINGE_BOUNDARY};
 use pendulum_fem::terms::{StepContext, Term, Torque, TorqueMode};
 use pendulum_fem::{mesh, Config, Error, Mesh};
 
-/// Exact rigid values of the tutorial pendulum (shared/reference/README.md).
-const EXACT_INERTIA: f64 = 0.044226815; // kg m²
-const EXACT_MASS: f64 = 1.084295939; // kg
-const EXACT_D: f64 = 0.1816508467; // m
+use common::exact::{CENTROID_DISTANCE as EXACT_D, INERTIA as EXACT_INERTIA, MASS as EXACT_MASS};
 
 /// The displacement that turns the configuration `X + deform` rigidly by `phi` about the pivot.
 fn rotated(mesh: &Mesh, phi: f64, deform: &[f64]) -> Vec<f64> {

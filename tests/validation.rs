@@ -1,5 +1,5 @@
 //! The tutorial's pendulum on the real curved mesh, verified against NGSolve runs of the tutorial
-//! and against the exact rigid compound pendulum (`tests/data`, copied from `shared/reference`).
+//! and against the exact rigid compound pendulum (`tests/data/README.md`, `tests/common/exact.rs`).
 //!
 //! The steel pendulum is rigid to about 1e-8 in strain, so its proxy angle follows the rigid
 //! pendulum with the exact mass, first and polar moments of the curved geometry (our mesh
@@ -17,13 +17,12 @@ use pendulum_fem::post::PeriodEstimator;
 use pendulum_fem::run::csv::read_numeric_csv;
 use pendulum_fem::Config;
 
-const EXACT_MASS: f64 = 1.084295939; // kg
-const EXACT_PERIOD_20_DEG: f64 = 0.957885229; // s
+use common::exact::{MASS as EXACT_MASS, PERIOD_20_DEG as EXACT_PERIOD_20_DEG};
 
 use common::simulate;
 
 fn reference(name: &str) -> Vec<(f64, f64, f64)> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+    let path = common::root()
         .join("tests/data")
         .join(name);
     let (names, rows) = read_numeric_csv(&path).unwrap();

@@ -10,6 +10,8 @@ pub const AREA: f64 = 1.390122999328e-2;
 pub const CENTROID_DISTANCE: f64 = 1.816508466954e-1;
 /// Mass \[kg\] at ρ = 7800 kg/m³ and a thickness of 0.01 m.
 pub const MASS: f64 = 1.084295939;
+/// Polar moment about the pivot per area, `I_p/A` \[m²\].
+pub const POLAR_PER_AREA: f64 = 4.078850906421e-2;
 /// Moment of inertia about the pivot \[kg m²\], at the same density and thickness.
 pub const INERTIA: f64 = 0.044226815;
 /// Small-amplitude angular frequency `√(g d / (I_p/A))` at g = 9.81 \[rad/s\].
