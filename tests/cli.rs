@@ -395,9 +395,7 @@ fn bench_ngsolve_checks_its_inputs_before_timing_anything() {
 
 /// θ of the NGSolve reference `tests/data/NAME` (see `tests/data/README.md`) as `(t, θ)`.
 fn ngsolve_theta(name: &str) -> Vec<(f64, f64)> {
-    let path = common::root()
-        .join("tests/data")
-        .join(name);
+    let path = common::root().join("tests/data").join(name);
     let (names, rows) = pendulum_fem::run::csv::read_numeric_csv(&path).unwrap();
     assert_eq!(names[..2], ["t_s", "theta_rad"]);
     rows.into_iter().map(|r| (r[0], r[1])).collect()
@@ -446,6 +444,6 @@ fn the_tutorials_exact_reproduction_runs_through_the_cli_with_the_watchdog_on_an
         .zip(&reference)
         .map(|(row, (_, theta_ref))| (row[theta] - theta_ref).abs().to_degrees())
         .max_of();
-    // the bar: 0.01° at every step (the library-level comparison measures 1.0e-5°)
+    // the bar: 0.01° at every step
     assert!(worst < 0.01, "largest |θ − θ_NGSolve| = {worst} deg");
 }

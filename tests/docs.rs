@@ -33,9 +33,8 @@ use std::time::{Duration, Instant};
 mod common;
 use common::python as python_env;
 
-/// The longest a block may take. The slowest ones, the Dask sweeps (a local cluster of two worker
-/// processes, eight cases), took 13 s on the 2-core machine with other work on it, and all 19
-/// blocks 90 s; a block 10 times slower than that has a problem.
+/// The longest a block may take: the slowest blocks, the Dask sweeps (a local cluster of two
+/// worker processes, eight cases), run in seconds; a block that takes minutes has a problem.
 const TIMEOUT: Duration = Duration::from_secs(120);
 
 /// The languages that are run; other fences (`text`, `rust`, a table drawn in a fence) are text.

@@ -44,9 +44,9 @@ fn compare(args: &[&str], tag: &str, file: &str) {
     assert_eq!(ours.len(), 21, "0.2 s in steps of 0.01 s and the start");
     for ((t, th, its), (t_ref, th_ref, its_ref)) in ours.iter().zip(&refs) {
         assert!((t - t_ref).abs() < 1e-12);
-        // the same NGSolve model: θ to 1e-6° (measured: 3e-12° from the zero start; 1e-8° from the
-        // rigid start, whose α₀ comes from the mesh's integrals, the reference's maybe from other
-        // rounding); our own comparisons with NGSolve ask for 0.01°
+        // the same NGSolve model: θ to 1e-6° (the rigid start's α₀ comes from the mesh's integrals,
+        // whose rounding may differ from the reference run's); our own comparisons with NGSolve
+        // ask for 0.01°
         assert!(
             (th - th_ref).abs().to_degrees() < 1e-6,
             "{tag} t = {t}: θ {th} vs {th_ref}"

@@ -324,8 +324,8 @@ fn meshio_reads_every_frame_back_with_equal_values() {
 #[test]
 fn default_runs_paraview_frames_are_at_most_a_third_of_the_uncompressed_size() {
     use pendulum_fem::commands::run::{run as run_job, RunOptions};
-    // Measured on main before compression (c709484): every frame of the default run was an
-    // uncompressed base64 VTU of 734,827 bytes (74.2 MB for the 101 frames).
+    // The size of one frame of the default run written as an uncompressed base64 VTU, the
+    // reference of the ratio.
     const UNCOMPRESSED_FRAME_BYTES: u64 = 734_827;
     let dir = common::scratch("default-size");
     let mut config = pendulum_fem::Config::default();

@@ -58,7 +58,7 @@ fn a_rigid_wall_bounces_the_pendulum_back_to_twenty_degrees_with_the_energy_kept
     println!("energy drift {drift:.2e} of the swing energy; peaks {peaks:?}; starts {starts:?}; ends {ends:?}");
     assert_eq!(sim.impacts(), 3, "three impacts in 1.5 s");
     assert_eq!((starts.len(), ends.len()), (3, 3));
-    // energy: 0.1 % of the swing energy at every step (measured ~1e-9)
+    // energy: 0.1 % of the swing energy at every step
     assert!(drift < 1e-3, "energy drift {drift:e}");
     // the converged reference: contact 0.239472–0.241600 s, 397 µm, rebound 19.9996° at 0.48107 s
     assert!((starts[0].time - 0.239472).abs() < 2e-4, "start {}", starts[0].time);
@@ -102,7 +102,7 @@ fn the_tutorials_deformable_wall_gives_the_rigid_walls_rebound_with_the_energy_o
         start.time
     );
     assert_eq!(sim.model.bodies.len(), 2, "the pendulum and the block");
-    // the total of both bodies and the contact within 0.5 % (measured ~4e-10)
+    // the total of both bodies and the contact within 0.5 %
     assert!(drift < 5e-3, "energy drift {drift:e}");
     // reference: the deformable wall gives the rigid wall's 19.9996° within 5e-4°
     assert!((deg - 19.9996).abs() < 0.05, "first rebound peak {deg}°");
@@ -353,7 +353,7 @@ fn inside_an_impact_every_sub_step_keeps_the_energy_balance_and_the_contact_ener
         "peak: δ = {delta:e} m, contact energy {:e} J, closed form {closed:e} J",
         peak.contact_energy
     );
-    // within 1 % (measured 0.4 %): the closed form takes the parabola of a circle (δ/R ~ 7e-3) and
+    // within 1 %: the closed form takes the parabola of a circle (δ/R ~ 7e-3) and
     // an undeformed head; the Gauss points of the arc's edges resolve the 14 mm wide contact
     assert!((ratio - 1.0).abs() < 0.01, "contact energy / closed form = {ratio}");
 }
@@ -426,11 +426,11 @@ fn two_hundred_impacts_cost_a_hundred_times_two_impacts() {
     );
     assert_eq!(few, 2);
     assert!((195..=205).contains(&many), "{many} impacts");
-    // the steps copy no events (before, every step's roll-back point copied them all: ~200 per step
-    // at the end of the long run)
+    // the steps copy no events (a step's roll-back point that copied them all would cost a copy
+    // of every impact so far per step)
     assert_eq!(many_copied, 0);
     // per impact, the long run costs what the short one does: within 25 %, the spread of the
-    // impacts' phase against the 10 ms steps (the events copied before would have made it ~50×)
+    // impacts' phase against the 10 ms steps
     assert!(ratio < 1.25, "cost per impact: {ratio} × the 2-impact run's");
     // Newton's energy tolerance (1e-10 of the energy scale) per sub-step, over ~10⁴ sub-steps
     assert!(
@@ -489,9 +489,8 @@ fn a_chattering_impact_is_predicted_from_its_alternation_and_continues_bit_for_b
         first.push(sim.record(0));
     }
     assert_eq!(sim.contact_events().len(), 2, "one impact, started and ended");
-    // measured: 674 Newton iterations over the impact's ~100 sub-steps; 1028 with the rigid-rotation
-    // predictor and the previous sub-step's factorisation (11-16 per sub-step). The bound sits
-    // between, with room for rounding to move a few sub-steps by an iteration.
+    // at most 8 Newton iterations per sub-step on average over the impact's ~100 sub-steps, which
+    // the guess for a chattering contact (`Simulation::chatter_guess`) is there to keep
     assert!(iterations <= 800, "{iterations} Newton iterations through the impact");
     // the scheme conserves energy (no gravity, no torque): 1e-12 of it per step
     let drift = first.iter().map(|r| (r.total - e0).abs()).max_of() / e0;

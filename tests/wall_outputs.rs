@@ -493,7 +493,7 @@ fn a_wall_runs_summary_reports_impacts_not_a_period() {
     );
     // the energy-consistent contact returns the swing's energy to it but the part left in elastic
     // vibration (rebound 19.9996° of 20°, README), so the swing's e is 1 to 1e-5; the proxy rate ω
-    // at the impact's end carries that vibration too, measured 1.0016 here: within 5e-3 of 1
+    // at the impact's end carries that vibration too: within 5e-3 of 1
     assert!((mean - 1.0).abs() < 5e-3, "restitution {mean}");
     // the rebound: 19.9996° for the converged reference (README); the records at dt = 0.01 s
     // sample the peak up to Δt/2 from it, ½ |α| (Δt/2)² = 0.0105° below (|α| = ω₀² sin 20° =
@@ -701,10 +701,9 @@ fn a_head_coming_round_the_blocks_face_end_in_a_step_that_succeeds_stops_before_
 fn a_soft_head_struck_against_a_stiff_wall_comes_through_its_impact_without_a_cut_back() {
     // seed 18's case 5 of the random-case campaign (tests/robustness.rs) up to the end of its first
     // impact (0.3828 to 0.4007 s): a soft head (E = 3 MPa) against a stiff contact
-    // (k = 1.6e12 N/m³). Its sub-steps converge in 10–40 Newton iterations (contractions of
-    // 0.5–0.9); with the former default of 20 iterations such a sub-step was
-    // halved again and again (halving did not reduce its iterations), and the impact was still
-    // unfinished after 118 s
+    // (k = 1.6e12 N/m³), whose sub-steps need many Newton iterations each (slow contractions
+    // while contact points change state): the default allowance of iterations takes them
+    // without halving the step
     let toml = "[geometry]\nrod_half_width = 0.01549\nhead_radius = 0.05923\nhole_radius = 0.03029\n\
          head_center_distance = 0.1533\nthickness = 0.01409\n[mesh]\nrefine = 1.244\n\
          [material]\nyoungs_modulus = 2.983e6\npoisson_ratio = 0.3693\ndensity = 2458\n\

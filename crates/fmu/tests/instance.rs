@@ -207,8 +207,8 @@ fn side_by_side(full: &mut Instance, reduced: &mut Instance, log: &Log, steps: u
 #[test]
 fn the_reduced_body_runs_in_the_fmu_conserving_energy_and_near_the_full_model() {
     // model_kind = 1: the same swing within 1e-4 rad of the full body over 1 s at 10 ms (the two
-    // time schemes' phase errors differ by 3.9e-5 rad, measured), its total energy constant to
-    // 1e-12 of itself (the solver's tolerance; measured 3e-14 through the CLI)
+    // time schemes' phase errors differ), its total energy constant to 1e-12 of itself (the
+    // solver's tolerance)
     let (mut full, _) = started(&[]);
     let (mut reduced, log) = started(&[("model_kind", 1.0), ("modes", 4.0)]);
     let worst = side_by_side(&mut full, &mut reduced, &log, 100);
@@ -228,10 +228,8 @@ fn the_reduced_body_runs_in_the_fmu_conserving_energy_and_near_the_full_model() 
 fn the_reduced_body_strikes_the_deformable_wall_in_the_fmu_as_the_full_body_does() {
     // model_kind = 1 with wall_kind = 2: the block reduced beside the pendulum. Over 0.4 s at
     // 10 ms (one impact at 0.24 s) θ stays within 1e-4 rad of the full body's and ω at 0.4 s
-    // within 5e-4 relative (measured 1.1e-4: the two schemes' phase errors at this step after the
-    // impact; through the CLI the impacts come within 5.2e-6 s of each other and ω leaves the
-    // block at 2.295468 against 2.295469 rad/s), and the total energy is constant to 1e-12 of
-    // itself (the solver's tolerance)
+    // within 5e-4 relative (the two schemes' phase errors at this step after the impact), and the
+    // total energy is constant to 1e-12 of itself (the solver's tolerance)
     let (mut full, _) = started(&[("wall_kind", 2.0)]);
     let (mut reduced, log) = started(&[("wall_kind", 2.0), ("model_kind", 1.0)]);
     let worst = side_by_side(&mut full, &mut reduced, &log, 40);

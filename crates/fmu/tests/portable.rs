@@ -9,8 +9,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// The largest archive accepted: the bound. The stripped FMU is about 2 MB zipped (the
-/// release build with debug info was 7.0 MB zipped, 29 MB unpacked).
+/// The largest archive accepted: the bound (the FMU's shared object is stripped and built
+/// without debug info to stay below it).
 const MAX_ZIPPED: u64 = 3_000_000;
 
 /// The newest glibc symbol version the shared object may need: glibc 2.17 (2012, RHEL 7).
