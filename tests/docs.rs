@@ -274,8 +274,8 @@ fn run_block(mut cmd: Command) -> Result<String, String> {
 fn every_documentation_block_runs_as_written_or_says_why_not() {
     let root = common::root();
     let scratch = common::scratch("blocks");
-    let python = python_env::test_env_python(&root);
-    python_env::install_wheel(&root, &python, &scratch);
+    let python = python_env::test_env_python(root);
+    python_env::install_wheel(root, &python, &scratch);
     let fmu = python_env::pack_fmu(&scratch.join("fmu"));
 
     // PATH: this test's pendulum-fem, then the test environment's python, pip and fmpy
@@ -293,8 +293,8 @@ fn every_documentation_block_runs_as_written_or_says_why_not() {
 
     let (mut ran, mut not_run, mut failures) = (0, Vec::new(), Vec::new());
     let started = Instant::now();
-    for file in documentation(&root) {
-        let rel = file.strip_prefix(&root).unwrap().display().to_string();
+    for file in documentation(root) {
+        let rel = file.strip_prefix(root).unwrap().display().to_string();
         let markdown = std::fs::read_to_string(&file).unwrap();
         let blocks = blocks(&markdown).unwrap_or_else(|e| panic!("{rel}: {e}"));
         for block in blocks.into_iter().filter(|b| RUN.contains(&b.lang.as_str())) {
@@ -304,7 +304,7 @@ fn every_documentation_block_runs_as_written_or_says_why_not() {
                 continue;
             }
             let dir = scratch.join(format!("{}-{}", rel.replace(['/', '.'], "_"), block.line));
-            checkout_like(&root, &dir, &fmu);
+            checkout_like(root, &dir, &fmu);
             let ext = match block.lang.as_str() {
                 "python" => "py",
                 "toml" => "toml",
