@@ -211,18 +211,29 @@ mod tests {
     }
 
     #[test]
-    fn bar_mode_template_is_valid_and_accepts_updates() {
+    fn bar_mode_builds_its_template_and_shows_the_steps_time_and_iterations_until_finished() {
+        // the template is parsed when the bar is made (an invalid one panics there)
         let mut p = Progress::new(10, ProgressMode::Bar);
+        let bar = p.bar.clone().expect("bar mode draws a bar");
+        assert!(p.lines.is_none(), "no plain lines beside the bar");
+        assert_eq!(bar.length(), Some(10));
         for s in 1..=10 {
             p.update(s, s as f64 * 0.1, 2 * s);
+            assert_eq!(bar.position(), s as u64);
         }
+        assert_eq!(bar.message(), "t = 1.0000 s, 20 Newton its");
+        assert!(!bar.is_finished());
         p.finish();
+        assert!(bar.is_finished(), "finish() ends the bar");
     }
 
     #[test]
-    fn quiet_mode_is_silent_and_does_not_panic() {
+    fn quiet_mode_has_neither_a_bar_nor_a_writer_so_it_prints_nothing() {
+        assert_eq!(ProgressMode::detect(true), ProgressMode::Quiet);
         let mut p = Progress::new(10, ProgressMode::Quiet);
+        assert!(p.bar.is_none() && p.lines.is_none());
         p.update(5, 0.5, 10);
+        assert_eq!(p.last, (5, 0.5, 10));
         p.finish();
     }
 }

@@ -2,6 +2,7 @@
 //! for the pendulum, stays at rest, and its fixed edges hold.
 
 mod common;
+use common::Extremes;
 
 use pendulum_fem::config::Material;
 use pendulum_fem::simulation::{BodySpec, Model};
@@ -78,7 +79,7 @@ fn a_separate_fixed_block_leaves_the_pendulum_unchanged_and_stays_at_rest_with_z
     assert_eq!(block.gravity.energy(u, &cx), 0.0);
     // the pendulum's displacement itself agrees to the same rounding level
     let ua = alone.displacement();
-    let worst = (0..2 * np).map(|i| (u[i] - ua[i]).abs()).fold(0.0, f64::max);
+    let worst = (0..2 * np).map(|i| (u[i] - ua[i]).abs()).max_of();
     assert!(worst < 1e-12, "largest displacement difference {worst:e} m");
 }
 
@@ -104,13 +105,13 @@ fn a_fixed_edge_holds_while_the_block_hangs_under_its_own_weight() {
     // restraint of the lateral contraction changes that by well under the 5 % allowed)
     let (rho, e, l) = (7800.0, 2.1e11, 0.25);
     let expected = rho * 9.81 * l * l / (2.0 * e);
-    let sag = nodes.clone().map(|n| -u[2 * n + 1]).fold(0.0, f64::max);
+    let sag = nodes.clone().map(|n| -u[2 * n + 1]).max_of();
     assert!(
         (sag - expected).abs() < 0.05 * expected,
         "sag {sag:e} m vs ρgL²/2E = {expected:e} m"
     );
     // and it stays there: the block's velocities are rounding-level (1e-9 of sag per step)
     let v = two.velocity();
-    let fastest = nodes.map(|n| v[2 * n].hypot(v[2 * n + 1])).fold(0.0, f64::max);
+    let fastest = nodes.map(|n| v[2 * n].hypot(v[2 * n + 1])).max_of();
     assert!(fastest < 1e-6 * expected / 0.01, "block speed {fastest:e} m/s");
 }

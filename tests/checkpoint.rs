@@ -2,19 +2,10 @@
 //! from its last checkpoint, or a finished run continued to a later `time.end`, writes exactly the
 //! results of an uninterrupted run.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pendulum-fem-checkpoint-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// Few outputs: results.csv and every 50th ParaView frame.
 const LEAN: [&str; 8] = [
@@ -29,7 +20,7 @@ const LEAN: [&str; 8] = [
 ];
 
 fn run(args: &[&str], out: &Path) -> Output {
-    let o = bin()
+    let o = common::bin()
         .arg("run")
         .arg("--quiet")
         .args(LEAN)
@@ -47,7 +38,7 @@ fn run(args: &[&str], out: &Path) -> Output {
 }
 
 fn restart(args: &[&str], dir: &Path) -> Output {
-    bin()
+    common::bin()
         .args(["run", "--quiet"])
         .args(args)
         .arg("--restart")
@@ -68,10 +59,10 @@ fn rows(dir: &Path) -> usize {
 
 #[test]
 fn a_run_killed_with_sigkill_and_restarted_writes_the_uninterrupted_results_byte_for_byte() {
-    let dir = scratch("kill");
+    let dir = common::scratch("kill");
     let (whole, killed) = (dir.join("whole"), dir.join("killed"));
     run(&["--set", "time.end=6"], &whole);
-    let mut child = bin()
+    let mut child = common::bin()
         .args(["run", "--quiet", "--checkpoint-every", "10", "--set", "time.end=6"])
         .args(LEAN)
         .arg("--out")
@@ -118,7 +109,7 @@ fn a_run_killed_with_sigkill_and_restarted_writes_the_uninterrupted_results_byte
 
 #[test]
 fn restarting_a_finished_run_with_a_larger_end_continues_it() {
-    let dir = scratch("continue");
+    let dir = common::scratch("continue");
     let (whole, short) = (dir.join("whole"), dir.join("short"));
     run(&["--set", "time.end=1"], &whole);
     run(&["--checkpoint-every", "30", "--set", "time.end=0.5"], &short);
@@ -139,7 +130,7 @@ fn restarting_a_finished_run_with_a_larger_end_continues_it() {
 
 #[test]
 fn a_restart_without_a_checkpoint_or_with_another_model_is_a_clear_error() {
-    let dir = scratch("errors");
+    let dir = common::scratch("errors");
     let (plain, with) = (dir.join("plain"), dir.join("with"));
     run(&["--set", "time.end=0.05"], &plain);
     let o = restart(&[], &plain);
@@ -157,7 +148,7 @@ fn a_restart_without_a_checkpoint_or_with_another_model_is_a_clear_error() {
         read(with.join("results.csv")) == csv,
         "a refused restart leaves results.csv alone"
     );
-    let o = bin()
+    let o = common::bin()
         .args(["run", "--checkpoint-every", "0", "--out"])
         .arg(dir.join("zero"))
         .output()
@@ -174,7 +165,7 @@ fn a_restart_without_a_checkpoint_or_with_another_model_is_a_clear_error() {
 fn a_restart_finds_the_same_model_through_a_relative_torque_table_and_the_deformable_wall_but_not_an_edited_table() {
     // checkpoint.toml names the table by its absolute path; the fingerprint covers the table's
     // values, not the path, and the deformable wall's block like the run itself
-    let dir = scratch("files");
+    let dir = common::scratch("files");
     let table = "time_s,torque_Nm\n0,0\n0.02,0.5\n1,0\n";
     std::fs::write(dir.join("t.csv"), table).unwrap();
     let sets = [
@@ -186,7 +177,7 @@ fn a_restart_finds_the_same_model_through_a_relative_torque_table_and_the_deform
         "wall.kind=\"deformable\"",
     ];
     let in_dir = |args: &[&str], out: &str| {
-        let o = bin()
+        let o = common::bin()
             .args(["run", "--quiet"])
             .args(LEAN)
             .args(sets)

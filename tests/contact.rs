@@ -3,6 +3,7 @@
 //! moment of impact, and nothing when apart. (The runs are in `tests/wall.rs`.)
 
 mod common;
+use common::Extremes;
 
 use pendulum_fem::assembly::Pattern;
 use pendulum_fem::terms::{dense_block, StepContext, StepStart, Term, WallContact};
@@ -12,16 +13,9 @@ fn tutorial_mesh() -> Mesh {
     mesh::generate(&Config::default()).expect("tutorial mesh")
 }
 
-/// A deterministic pseudo-random field of amplitude `amp`.
-fn wiggle(n: usize, amp: f64, seed: f64) -> Vec<f64> {
-    (0..n)
-        .map(|i| amp * (((i as f64 + seed) * 12.9898).sin() * 43758.5453).fract())
-        .collect()
-}
-
 /// The head pushed by `dx` in x, plus a wiggle.
 fn shifted(mesh: &Mesh, dx: f64, seed: f64) -> Vec<f64> {
-    let mut u = wiggle(2 * mesh.num_nodes(), 2e-6, seed);
+    let mut u = common::wiggle(2 * mesh.num_nodes(), 2e-6, seed);
     for n in 0..mesh.num_nodes() {
         u[2 * n] += dx;
     }
@@ -59,7 +53,7 @@ fn the_contact_gradient_and_hessian_match_finite_differences() {
     let n = u.len();
     let (mut g, mut k) = (vec![0.0; n], vec![0.0; pattern.nnz()]);
     term.assemble(&u, &StepContext::at(&u, 0.0, 0.0, None), &pattern, &mut g, &mut k);
-    let scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let scale = g.iter().map(|v| v.abs()).max_of();
     assert!(scale > 0.0, "the head is pressed into the wall");
     // the force resultant equals the normal force the term reports
     let fx: f64 = g.iter().step_by(2).sum();
@@ -135,8 +129,8 @@ fn deformable() -> (Mesh, WallContact, usize) {
 /// The head (nodes before `first`) pushed by `dx` and the block's nodes moved by a wiggle of
 /// `amp` (its face bent), plus a small wiggle everywhere.
 fn pressed(mesh: &Mesh, first: usize, dx: f64, amp: f64, seed: f64) -> Vec<f64> {
-    let mut u = wiggle(2 * mesh.num_nodes(), 2e-6, seed);
-    let bend = wiggle(2 * mesh.num_nodes(), amp, seed + 7.0);
+    let mut u = common::wiggle(2 * mesh.num_nodes(), 2e-6, seed);
+    let bend = common::wiggle(2 * mesh.num_nodes(), amp, seed + 7.0);
     for n in 0..mesh.num_nodes() {
         if n < first {
             u[2 * n] += dx;
@@ -156,7 +150,7 @@ fn the_deformable_face_contact_gradient_matches_finite_differences() {
     let cx = StepContext::at(&u, 0.0, 0.0, None);
     let mut g = vec![0.0; u.len()];
     term.add_gradient(&u, &cx, &mut g);
-    let scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let scale = g.iter().map(|v| v.abs()).max_of();
     assert!(scale > 0.0, "the head is pressed into the face");
     // the forces on head and face balance in x (the face's slope is ~1e-4: y forces are small)
     let (fx_head, fx_face): (f64, f64) = (
@@ -313,7 +307,7 @@ fn the_energy_fades_out_smoothly_past_the_end_of_the_face() {
         inside > 0.0 && beyond < 1e-3 * inside,
         "it fades out: {inside:e} → {beyond:e}"
     );
-    let largest = values.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
+    let largest = values.windows(2).map(|w| (w[1] - w[0]).abs()).max_of();
     // the smooth taper over ~1.5 mm changes the energy by at most ~(10 µm / 1.5 mm)·1.5 of itself per step
     assert!(
         largest < 2e-2 * inside,
@@ -338,10 +332,8 @@ fn the_deformable_faces_hessian_pattern_holds_every_entry_it_writes_and_a_contac
     let mut states = vec![pressed(&mesh, first, -5e-5, 1e-6, 3.0)];
     for deg in [-5.0f64, 5.0] {
         let (s, c) = deg.to_radians().sin_cos();
-        let mut u = wiggle(2 * mesh.num_nodes(), 1e-6, deg);
-        let leftmost = (0..first)
-            .map(|n| c * mesh.nodes[n][0] - s * mesh.nodes[n][1])
-            .fold(f64::INFINITY, f64::min);
+        let mut u = common::wiggle(2 * mesh.num_nodes(), 1e-6, deg);
+        let leftmost = (0..first).map(|n| c * mesh.nodes[n][0] - s * mesh.nodes[n][1]).min_of();
         let shift = -0.06 - leftmost - 4e-5;
         for n in 0..first {
             let p = mesh.nodes[n];

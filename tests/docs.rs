@@ -14,7 +14,7 @@
 //! `docs/`, …) and a `target/` with `target/fmu/PendulumFem.fmu` (packed here from the freshly
 //! built library, as `cargo xtask fmu` packs it) and `target/release/pendulum-fem`. `PATH` starts
 //! with the `pendulum-fem` built for this test and the test environment's `bin/` (`python`, `pip`,
-//! `fmpy`). Everything a block writes stays in its folder (`target/tmp/docs/`).
+//! `fmpy`). Everything a block writes stays in its folder (under `target/tmp/`).
 //!
 //! A block that cannot run here says so in the markdown, in an HTML comment on the line before its
 //! fence (blank lines between are allowed), and must give the reason:
@@ -30,12 +30,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-#[path = "common/python.rs"]
-mod python_env;
+mod common;
+use common::python as python_env;
 
-/// The longest a block may take. The slowest ones, the Dask sweeps (a local cluster of two worker
-/// processes, eight cases), took 13 s on the 2-core machine with other work on it, and all 19
-/// blocks 90 s; a block 10 times slower than that has a problem.
+/// The longest a block may take: the slowest blocks, the Dask sweeps (a local cluster of two
+/// worker processes, eight cases), run in seconds; a block that takes minutes has a problem.
 const TIMEOUT: Duration = Duration::from_secs(120);
 
 /// The languages that are run; other fences (`text`, `rust`, a table drawn in a fence) are text.
@@ -145,10 +144,6 @@ fn marker_before(lines: &[&str], fence: usize) -> Result<Marker, String> {
     ))
 }
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
 /// The markdown files whose blocks are run: `README.md`, `crates/*/README.md`, `docs/*.md`.
 fn documentation(root: &Path) -> Vec<PathBuf> {
     let mut files = vec![root.join("README.md")];
@@ -213,7 +208,7 @@ fn command(block: &Block, dir: &Path, python: &Path) -> Command {
         ("toml", _) => {
             // two steps of the configured dt: every key read and range-checked, the model built and
             // stepped; results.csv only
-            let mut cmd = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
+            let mut cmd = common::bin();
             cmd.args(["run", "--config", "block.toml", "--out", "out"]);
             let dt = toml::from_str::<toml::Table>(&block.text)
                 .ok()
@@ -277,11 +272,10 @@ fn run_block(mut cmd: Command) -> Result<String, String> {
 
 #[test]
 fn every_documentation_block_runs_as_written_or_says_why_not() {
-    let root = root();
-    let scratch = root.join("target/tmp/docs");
-    std::fs::create_dir_all(&scratch).unwrap();
-    let python = python_env::test_env_python(&root);
-    python_env::install_wheel(&root, &python, &root.join("target/python-test"));
+    let root = common::root();
+    let scratch = common::scratch("blocks");
+    let python = python_env::test_env_python(root);
+    python_env::install_wheel(root, &python, &scratch);
     let fmu = python_env::pack_fmu(&scratch.join("fmu"));
 
     // PATH: this test's pendulum-fem, then the test environment's python, pip and fmpy
@@ -299,8 +293,8 @@ fn every_documentation_block_runs_as_written_or_says_why_not() {
 
     let (mut ran, mut not_run, mut failures) = (0, Vec::new(), Vec::new());
     let started = Instant::now();
-    for file in documentation(&root) {
-        let rel = file.strip_prefix(&root).unwrap().display().to_string();
+    for file in documentation(root) {
+        let rel = file.strip_prefix(root).unwrap().display().to_string();
         let markdown = std::fs::read_to_string(&file).unwrap();
         let blocks = blocks(&markdown).unwrap_or_else(|e| panic!("{rel}: {e}"));
         for block in blocks.into_iter().filter(|b| RUN.contains(&b.lang.as_str())) {
@@ -310,7 +304,7 @@ fn every_documentation_block_runs_as_written_or_says_why_not() {
                 continue;
             }
             let dir = scratch.join(format!("{}-{}", rel.replace(['/', '.'], "_"), block.line));
-            checkout_like(&root, &dir, &fmu);
+            checkout_like(root, &dir, &fmu);
             let ext = match block.lang.as_str() {
                 "python" => "py",
                 "toml" => "toml",

@@ -2,23 +2,18 @@
 //! read writes the same results, byte for byte, as one that meshed. A binary of its own, so that
 //! no other test's meshes fill the process's last-mesh store between the steps of the first test.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+mod common;
+
+use std::path::Path;
+use std::process::Stdio;
 
 use pendulum_fem::mesh::{self, cache};
 use pendulum_fem::reduced::cache::with_folder;
 use pendulum_fem::Config;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("mesh-cache-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch folder");
-    dir
-}
-
 #[test]
 fn a_generated_mesh_is_kept_on_disk_read_back_exactly_and_a_damaged_file_or_a_refused_configuration_is_not_served() {
-    let dir = scratch("library");
+    let dir = common::scratch("library");
     let cfg = Config::default();
     let made = mesh::generate_with_stats(&cfg).expect("mesh").0;
     let path = cache::file(&dir, cache::key(&cfg));
@@ -47,7 +42,7 @@ fn a_generated_mesh_is_kept_on_disk_read_back_exactly_and_a_damaged_file_or_a_re
         }
     });
     // with the disk off nothing is written
-    let off = scratch("off");
+    let off = common::scratch("off");
     with_folder(None, || {
         mesh::forget_last();
         assert_eq!(mesh::generate(&cfg).expect("mesh"), made);
@@ -57,7 +52,7 @@ fn a_generated_mesh_is_kept_on_disk_read_back_exactly_and_a_damaged_file_or_a_re
 
 /// `pendulum-fem run` with the cache in `cache` (`off`: none) into `out`; its results.csv.
 fn run(cache: &str, out: &Path) -> Vec<u8> {
-    let status = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
+    let status = common::bin()
         .args(["run", "-q", "--force", "--out"])
         .arg(out)
         .args([
@@ -80,7 +75,7 @@ fn run(cache: &str, out: &Path) -> Vec<u8> {
 
 #[test]
 fn a_run_whose_mesh_was_read_writes_the_results_of_one_that_meshed() {
-    let (dir, out) = (scratch("cli"), scratch("cli-out"));
+    let (dir, out) = (common::scratch("cli"), common::scratch("cli-out"));
     let folder = dir.to_str().expect("a UTF-8 path");
     let meshed = run(folder, &out.join("first"));
     let files: Vec<String> = std::fs::read_dir(&dir)

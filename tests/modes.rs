@@ -4,8 +4,8 @@
 //! mesh, P4 elements refined twice, SciPy's ARPACK shift-invert), their convergence under mesh
 //! refinement, the eigenpairs' checks and the command line.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
+use common::Extremes;
 
 use pendulum_fem::commands::modes::compute;
 use pendulum_fem::modal;
@@ -14,10 +14,6 @@ use pendulum_fem::{Config, Model};
 /// Elastic modes compared with the reference.
 const COMPARED: usize = 8;
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
 fn config(sets: &[&str]) -> Config {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     Config::load(None, &sets).unwrap()
@@ -25,7 +21,7 @@ fn config(sets: &[&str]) -> Config {
 
 /// The reference's elastic frequencies \[Hz\].
 fn ngsolve_hz() -> Vec<f64> {
-    let text = std::fs::read_to_string(root().join("tests/data/ngsolve_modes.json")).unwrap();
+    let text = std::fs::read_to_string(common::root().join("tests/data/ngsolve_modes.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["reference"]["elastic_hz"]
         .as_array()
@@ -44,11 +40,11 @@ fn elastic_hz(cfg: &Config, n: usize) -> Vec<f64> {
 }
 
 /// Tolerance: the reference's own discretisation error is below 5e-5 (its change from the
-/// previous refinement, stored with it); our default mesh (1233 P2 triangles, the tutorial's
-/// sizes) is measured 0.12 % (mode 1) to 0.24 % (mode 3) above it, the excess of a coarser P2
-/// discretisation over the converged value (the stiffness of a conforming discretisation is an
-/// upper bound). 0.5 % leaves room for the mesher's rounding, not for a wrong operator: a wrong
-/// Poisson ratio or plane strain moves the frequencies by 2 % to 10 %.
+/// previous refinement, stored with it); our default mesh (P2 triangles of the tutorial's sizes)
+/// lies above it by the excess of a coarser P2 discretisation over the converged value (the
+/// stiffness of a conforming discretisation is an upper bound), a few tenths of a percent. 0.5 %
+/// leaves room for the mesher's rounding, not for a wrong operator: a wrong Poisson ratio or plane
+/// strain moves the frequencies by 2 % to 10 %.
 #[test]
 fn the_first_eight_elastic_frequencies_of_the_default_mesh_are_within_half_a_percent_of_ngsolve() {
     let ours = elastic_hz(&config(&[]), COMPARED);
@@ -94,8 +90,8 @@ fn the_frequencies_converge_towards_ngsolve_under_mesh_refinement() {
 }
 
 /// The checks of the eigensolver, recomputed here: the backward error
-/// `‖Kφ − ω²Mφ + Cᵀμ‖ / ((‖K‖ + ω²‖M‖)‖φ‖)` below 1e-12 (measured 7e-14 on meshes of 5k to 120k
-/// unknowns; the Lanczos tolerance is 1e-11 on the shift-inverted operator), `M`-orthonormality to
+/// `‖Kφ − ω²Mφ + Cᵀμ‖ / ((‖K‖ + ω²‖M‖)‖φ‖)` below 1e-12 (the Lanczos tolerance is 1e-11 on the
+/// shift-inverted operator), `M`-orthonormality to
 /// 1e-10 (full reorthogonalisation keeps it at rounding level), the hinge rows to 1e-12 of
 /// `‖C‖‖φ‖` (the constraints are eliminated exactly, up to rounding), and the rigid mode is the
 /// rotation about the pivot.
@@ -117,7 +113,7 @@ fn the_eigenpairs_have_small_residuals_are_mass_orthonormal_and_keep_the_hinge()
     // and the hinge's mean displacement of every shape, against the shape's largest nodal one
     for phi in &modes.shapes {
         let mean = model.hinge.value(phi);
-        let largest = phi.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let largest = phi.iter().map(|v| v.abs()).max_of();
         assert!(mean[0].hypot(mean[1]) < 1e-12 * largest, "{mean:?} of {largest}");
     }
     // mode 0: ω² at rounding level and the shape a rotation (−y, x) about the pivot
@@ -196,18 +192,12 @@ fn least_squares_residual(rows: &[Vec<f64>], r: &[f64]) -> f64 {
     dot(&res, &res).sqrt()
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pendulum-fem-modes-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
 /// The real binary writes `modes.json` (the frequencies of the library, to 1e-9: the same
 /// computation, printed with 17 digits), `modes.pvd` with one `.vtu` per mode and `modes.png`.
 #[test]
 fn the_modes_command_writes_json_pvd_and_png_with_the_same_frequencies() {
-    let dir = scratch("cli");
-    let out = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
+    let dir = common::scratch("cli");
+    let out = common::bin()
         .args(["modes", "--n", "8", "-o"])
         .arg(&dir)
         .output()
@@ -251,8 +241,8 @@ fn the_modes_command_writes_json_pvd_and_png_with_the_same_frequencies() {
 #[test]
 fn a_bad_mode_count_fails_naming_the_option_and_the_allowed_range() {
     for bad in ["0", "-3", "51"] {
-        let dir = scratch(&format!("bad{bad}"));
-        let out = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
+        let dir = common::scratch(&format!("bad{bad}")).join("out");
+        let out = common::bin()
             .args(["modes", "--n", bad, "-o"])
             .arg(&dir)
             .output()
@@ -265,10 +255,7 @@ fn a_bad_mode_count_fails_naming_the_option_and_the_allowed_range() {
         );
         assert!(!dir.exists(), "--n {bad} wrote {}", dir.display());
     }
-    let out = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"))
-        .args(["modes", "--n", "many"])
-        .output()
-        .unwrap();
+    let out = common::bin().args(["modes", "--n", "many"]).output().unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--n"));
 }

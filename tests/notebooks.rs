@@ -14,8 +14,8 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-#[path = "common/python.rs"]
-mod python_env;
+mod common;
+use common::python as python_env;
 use python_env::run;
 
 /// The notebooks, in the order a reader takes them.
@@ -33,12 +33,8 @@ fn report(line: &str) {
     let _ = writeln!(std::io::stderr().lock(), "notebooks: {line}");
 }
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
 fn notebook_dir() -> PathBuf {
-    root().join("examples/notebooks")
+    common::root().join("examples/notebooks")
 }
 
 /// The columns `time_s` and `theta_rad` of a CSV file with a header, as the bits of the doubles
@@ -106,15 +102,14 @@ fn the_notebooks_in_git_have_no_outputs() {
 
 #[test]
 fn every_notebook_runs_against_the_installed_wheel() {
-    let root = root();
-    let scratch = root.join("target/notebooks");
-    std::fs::create_dir_all(&scratch).unwrap();
+    let root = common::root();
+    let scratch = common::scratch("notebooks");
     // the CLI's default run (1 s in steps of 10 ms)
     let results = python_env::cli_run(&scratch.join("cli-run"), &[]).join("results.csv");
     let fmu = python_env::pack_fmu(&scratch.join("fmu"));
 
     let outside = python_env::outside_the_source_tree("notebooks");
-    let env = python_env::wheel_env(&root, &scratch, &outside);
+    let env = python_env::wheel_env(root, &scratch, &outside);
     report(&format!("installed {} into {}", env.wheel, env.python.display()));
     let theta_csv = outside.join("notebook-theta.csv");
     for name in NOTEBOOKS {

@@ -1,9 +1,7 @@
 //! The frame writers: plots, animations, ParaView files, output folders and flags.
 
-#[path = "common/plate.rs"]
-mod plate;
-#[path = "common/tools.rs"]
-mod tools;
+mod common;
+use common::{plate, tools};
 
 use std::collections::HashSet;
 use std::path::Path;
@@ -41,7 +39,7 @@ fn decode_png(path: &Path) -> (u32, u32, usize) {
 
 #[test]
 fn gifs_have_one_frame_per_written_step_and_show_many_colours() {
-    let dir = temp_dir("gifs");
+    let dir = common::scratch("gifs");
     let mesh = plate_mesh(2, 12);
     let output = Output {
         every: 2,
@@ -63,7 +61,7 @@ fn gifs_have_one_frame_per_written_step_and_show_many_colours() {
 
 #[test]
 fn animation_frames_are_bounded_by_max_frames_and_end_on_the_last_step() {
-    let dir = temp_dir("bounded");
+    let dir = common::scratch("bounded");
     let mesh = plate_mesh(1, 4);
     let output = Output {
         max_frames: 16,
@@ -79,7 +77,7 @@ fn animation_frames_are_bounded_by_max_frames_and_end_on_the_last_step() {
 
 #[test]
 fn plots_are_pngs_with_axes_curves_and_text() {
-    let dir = temp_dir("plots");
+    let dir = common::scratch("plots");
     let mesh = plate_mesh(1, 4);
     let output = Output {
         animation: false,
@@ -99,7 +97,7 @@ fn plots_are_pngs_with_axes_curves_and_text() {
 
 #[test]
 fn frames_that_do_not_match_the_mesh_are_refused_naming_the_field() {
-    let dir = temp_dir("mismatch");
+    let dir = common::scratch("mismatch");
     let mesh = plate_mesh(1, 2);
     let mut data = synthetic_frame(&mesh, 0, 0.01);
     data.von_mises.pop();
@@ -113,7 +111,7 @@ fn frames_that_do_not_match_the_mesh_are_refused_naming_the_field() {
 
 #[test]
 fn plots_without_results_csv_fail_naming_the_file_after_writing_the_rest() {
-    let dir = temp_dir("nocsv");
+    let dir = common::scratch("nocsv");
     let mesh = plate_mesh(1, 2);
     let output = Output {
         animation: false,
@@ -145,7 +143,7 @@ fn pvd_entries(path: &Path) -> Vec<(f64, String)> {
 
 #[test]
 fn pvd_lists_every_written_frame_with_its_time_and_each_vtu_is_complete() {
-    let dir = temp_dir("pvd");
+    let dir = common::scratch("pvd");
     let mesh = plate_mesh(2, 6);
     let output = Output {
         every: 5,
@@ -193,7 +191,7 @@ fn pvd_lists_every_written_frame_with_its_time_and_each_vtu_is_complete() {
 
 #[test]
 fn pvd_is_valid_while_the_run_is_still_going() {
-    let dir = temp_dir("pvd-early");
+    let dir = common::scratch("pvd-early");
     let mesh = plate_mesh(1, 3);
     let output = Output {
         plots: false,
@@ -266,7 +264,7 @@ fn meshio_reads_every_frame_back_with_equal_values() {
     ) {
         return;
     }
-    let dir = temp_dir("meshio");
+    let dir = common::scratch("meshio");
     let mesh = plate_mesh(2, 5);
     let output = Output {
         plots: false,
@@ -326,10 +324,10 @@ fn meshio_reads_every_frame_back_with_equal_values() {
 #[test]
 fn default_runs_paraview_frames_are_at_most_a_third_of_the_uncompressed_size() {
     use pendulum_fem::commands::run::{run as run_job, RunOptions};
-    // Measured on main before compression (c709484): every frame of the default run was an
-    // uncompressed base64 VTU of 734,827 bytes (74.2 MB for the 101 frames).
+    // The size of one frame of the default run written as an uncompressed base64 VTU, the
+    // reference of the ratio.
     const UNCOMPRESSED_FRAME_BYTES: u64 = 734_827;
-    let dir = temp_dir("default-size");
+    let dir = common::scratch("default-size");
     let mut config = pendulum_fem::Config::default();
     config.output.plots = false;
     config.output.animation = false;
@@ -357,7 +355,7 @@ fn default_runs_paraview_frames_are_at_most_a_third_of_the_uncompressed_size() {
 
 #[test]
 fn paraview_and_pictures_thin_separately_and_both_end_on_the_last_step() {
-    let dir = temp_dir("thinning");
+    let dir = common::scratch("thinning");
     let mesh = plate_mesh(1, 3);
     let output = Output {
         every: 7,
@@ -408,7 +406,7 @@ fn a_run_whose_frames_would_exceed_a_gigabyte_is_warned_about_with_the_keys_to_c
 
 #[test]
 fn flags_off_write_no_files() {
-    let dir = temp_dir("flags-off");
+    let dir = common::scratch("flags-off");
     let mesh = plate_mesh(1, 3);
     let output = Output {
         plots: false,
@@ -444,7 +442,7 @@ fn each_flag_writes_exactly_its_files() {
         ("paraview", &["pendulum.pvd", "frames"][..]),
         ("viewer", &["viewer.html"][..]),
     ] {
-        let dir = temp_dir(flag);
+        let dir = common::scratch(flag);
         let output = Output {
             plots: flag == "plots",
             animation: flag == "animation",
@@ -461,7 +459,7 @@ fn each_flag_writes_exactly_its_files() {
 
 #[test]
 fn fresh_run_folders_are_numbered_and_latest_points_to_the_newest() {
-    let base = temp_dir("runs").join("results");
+    let base = common::scratch("runs").join("results");
     let a = prepare_output_dir(&base, None, false).unwrap();
     let b = prepare_output_dir(&base, None, false).unwrap();
     assert_eq!(a, base.join("run-0001"));
@@ -485,9 +483,9 @@ fn fresh_run_folders_are_numbered_and_latest_points_to_the_newest() {
 
 #[test]
 fn explicit_non_empty_folder_is_refused_without_force_and_left_untouched() {
-    let dir = temp_dir("explicit");
+    let dir = common::scratch("explicit");
     std::fs::write(dir.join("precious.txt"), "keep me").unwrap();
-    let base = temp_dir("explicit-base");
+    let base = common::scratch("explicit-base");
     let err = prepare_output_dir(&base, Some(&dir), false).unwrap_err().to_string();
     assert!(err.contains(&dir.display().to_string()), "{err}");
     assert!(err.contains("--force"), "{err}");
@@ -513,7 +511,7 @@ fn explicit_non_empty_folder_is_refused_without_force_and_left_untouched() {
 
 #[test]
 fn explicit_new_or_empty_folder_is_used_as_is() {
-    let parent = temp_dir("explicit-new");
+    let parent = common::scratch("explicit-new");
     let new = parent.join("a/b");
     assert_eq!(prepare_output_dir(Path::new("unused"), Some(&new), false).unwrap(), new);
     assert!(new.is_dir());
@@ -530,7 +528,7 @@ fn hundred_frames_of_a_1200_triangle_mesh_are_written_quickly() {
     use pendulum_fem::render::anim::{write_gif, AnimField, KeptFrame, KeptFrames, Scene};
     use pendulum_fem::render::plot::{write_energy_png, write_theta_png, History};
     use pendulum_fem::render::viewer::write_viewer;
-    let dir = temp_dir("timing");
+    let dir = common::scratch("timing");
     let mesh = plate_mesh(4, 150);
     assert_eq!(mesh.triangles.len(), 1200);
     let steps = 99;

@@ -8,27 +8,20 @@
 //! CLI's `sweep` (its path in `PENDULUM_FEM_CLI`); any failure fails this test with pytest's
 //! output (nothing is skipped).
 
-use std::path::PathBuf;
-
-#[path = "common/python.rs"]
-mod python_env;
+mod common;
+use common::python as python_env;
 use python_env::run;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 #[test]
 fn the_abi3_wheel_installs_into_a_clean_environment_and_passes_the_python_suite() {
-    let root = root();
-    let scratch = root.join("target/python-test");
-    std::fs::create_dir_all(&scratch).unwrap();
+    let root = common::root();
+    let scratch = common::scratch("python-package");
     let results = python_env::cli_run(&scratch.join("cli-run"), &["time.end=1"]).join("results.csv");
     let wall = python_env::cli_run(&scratch.join("cli-run-wall"), &["time.end=1", "wall.kind=\"rigid\""]);
     // pytest's working folder: outside the source tree, so that `import pendulum_fem` can only
     // find the installed wheel
     let cwd = python_env::outside_the_source_tree("python-package");
-    let env = python_env::wheel_env(&root, &scratch, &cwd);
+    let env = python_env::wheel_env(root, &scratch, &cwd);
     println!("installed {} into {}", env.wheel, env.python.display());
     let report = run(
         env.command(&env.python, &cwd)

@@ -2,6 +2,9 @@
 //! `max |ΔE − W_torque| / scale` with a scale that is never near zero, and a run whose error
 //! exceeds `output.energy_watchdog` stops with an error naming the time and the energies.
 
+mod common;
+use common::Extremes;
+
 use std::path::PathBuf;
 
 use pendulum_fem::commands::run::{run, EnergyAudit, RunOptions, RunSummary};
@@ -44,9 +47,9 @@ fn energy_error_from_csv(dir: &std::path::Path, cfg: &Config) -> (f64, f64) {
     let model = Model::new(cfg, mesh::generate(cfg).unwrap()).unwrap();
     let floor = 1e-3 * model.mass_kg() * 9.81 * model.length_scale();
     let first = &rows[0];
-    let largest_work = rows.iter().map(|r| r[w].abs()).fold(0.0, f64::max);
+    let largest_work = rows.iter().map(|r| r[w].abs()).max_of();
     let scale = floor.max(first[k] + model.potential_range() + largest_work);
-    let defect = rows.iter().map(|r| (r[e] - first[e] - r[w]).abs()).fold(0.0, f64::max);
+    let defect = rows.iter().map(|r| (r[e] - first[e] - r[w]).abs()).max_of();
     (defect, scale)
 }
 
@@ -68,16 +71,16 @@ fn with_a_torque_the_energy_error_is_the_energy_change_minus_the_torque_work_ove
         summary.energy_error,
         defect / scale
     );
-    // the torque did work of the order of the kinetic energy, and the balance holds to 1e-4
-    // (measured 2.1e-6); ignoring the work, as the former "drift" did, would be of order 1
+    // the torque did work of the order of the kinetic energy, and the balance holds to 1e-4;
+    // ignoring the work would give an error of order 1
     assert!(summary.energy_error < 1e-4, "energy error {:.3e}", summary.energy_error);
 }
 
-/// Seed 24's case 16 of `tests/robustness.rs` (a light plate, a step torque of 0.7 N·m switching
-/// on at 0.4954 s, `time.dt` = 4.954e-3 s) ended with an energy balance of 5.8e-4: the step that
-/// starts at the switch recomputed its start time as `(t₀ + Δt) − Δt`, a rounding below `t₀`, so
-/// the torque's work counted the torque off at the step's start while the step's dynamics had it
-/// on. Here on the tutorial's pendulum, with the same times.
+/// A step torque switching on exactly at a step's start (0.7 N·m at 0.4954 s, `time.dt` =
+/// 4.954e-3 s, on the tutorial's pendulum): the step's dynamics and the torque's work must both
+/// take the torque as on from that start. A start time recomputed as `(t₀ + Δt) − Δt`, a rounding
+/// below `t₀`, would count the torque off in the work while the dynamics had it on: half a step's
+/// work of the torque, far above the bar of 1e-9.
 #[test]
 fn a_step_torque_switching_on_at_a_step_start_keeps_the_energy_balanced() {
     let cfg = config(&[
@@ -89,8 +92,8 @@ fn a_step_torque_switching_on_at_a_step_start_keeps_the_energy_balanced() {
     ]);
     let (summary, _) = run_into("step-torque", cfg);
     let summary = summary.unwrap();
-    // measured 2.0e-12; with the start time recomputed, 1.7e-4 (half a step's work of the torque
-    // at the switch): a bar far above the one and far below the other
+    // the solver's tolerance per step, far below the half step's work of the torque a wrong start
+    // time would leave
     assert!(summary.energy_error < 1e-9, "energy error {:.3e}", summary.energy_error);
 }
 
@@ -113,8 +116,7 @@ fn without_gravity_the_energy_error_is_finite_and_small() {
         let summary = summary.unwrap();
         let (defect, scale) = energy_error_from_csv(&dir, &cfg);
         assert!((summary.energy_error - defect / scale).abs() <= 1e-12 * (defect / scale).max(1e-300));
-        // the floor (1e-3 m g0 L, about 3.2e-3 J here) keeps the scale away from zero; measured
-        // errors: 1.1e-5 with the torque, 7e-8 at rest
+        // the floor (1e-3 m g0 L, about 3.2e-3 J here) keeps the scale away from zero
         assert!(summary.energy_scale >= 3e-3, "{name}: scale {}", summary.energy_scale);
         assert!(
             summary.energy_error.is_finite() && summary.energy_error < 1e-4,
@@ -139,11 +141,11 @@ fn the_energy_scale_floor_is_a_thousandth_of_lifting_the_body_by_its_length() {
 #[test]
 fn the_energy_scale_is_the_available_energy_from_the_first_step_on() {
     // the tutorial's pendulum at 20°: d = 0.18165 m, m = 1.0843 kg; the centroid can move from
-    // h₀ = −d cos 20° up to +d, so m g (d + d cos 20°) = 3.748 J (exact geometry values from
-    // shared/reference; the mesh's area and first moment agree to 5e-7, hence 1e-5)
+    // h₀ = −d cos 20° up to +d, so m g (d + d cos 20°) (the exact rigid values of
+    // tests/data/README.md; the mesh's area and first moment agree to 5e-7, hence 1e-5)
     let cfg = Config::default();
     let model = Model::new(&cfg, mesh::generate(&cfg).unwrap()).unwrap();
-    let (m, d) = (1.084295939, 0.1816508466954);
+    let (m, d) = (common::exact::MASS, common::exact::CENTROID_DISTANCE);
     let exact = m * 9.81 * d * (1.0 + 20f64.to_radians().cos());
     assert!(
         (model.potential_range() - exact).abs() < 1e-5 * exact,
@@ -194,9 +196,9 @@ fn the_largest_von_mises_of_csv_and_summary_is_the_largest_value_of_the_frames_f
             .von_mises
             .iter()
             .copied()
-            .fold(0.0, f64::max);
+            .max_of();
         assert_eq!(record.von_mises_max, shown, "step {}", record.step);
-        largest_shown = largest_shown.max(shown);
+        largest_shown = [largest_shown, shown].into_iter().max_of();
         Ok(())
     })
     .unwrap();
@@ -232,7 +234,7 @@ fn a_run_to_an_off_grid_end_lands_on_it_and_says_so() {
     let times: Vec<f64> = rows.iter().map(|r| r[0]).collect();
     assert_eq!(times, [0.0, 0.01, 0.015]);
     // the same instant with dt = 0.005 throughout: the two differ by the integrator's
-    // second-order error, measured 5.7e-7 rad; 5e-6 rad would be a step of the wrong length
+    // second-order error, below 5e-6 rad; a step of the wrong length would be above it
     let (fine, dir_fine) = run_into("off-grid-fine", config(&["time.end=0.015", "time.dt=0.005"]));
     assert_eq!(fine.unwrap().last_step, None);
     let (_, fine_rows) = read_numeric_csv(&dir_fine.join("results.csv")).unwrap();

@@ -3,6 +3,9 @@
 //! key would hand one model another's mass matrix or loads without a sign. One test in a binary of
 //! its own, so that no other test's models evict or forget the operators between its builds.
 
+mod common;
+use common::Extremes;
+
 use std::sync::Arc;
 
 use pendulum_fem::config::{TorqueProfile, WallKind};
@@ -45,7 +48,7 @@ fn models_share_an_operator_exactly_when_all_its_inputs_agree() {
     let b = model(&dense);
     assert_eq!(shared_with(&a, &b), [true, false, true, true, false, true]);
     let ratio = 2700.0 / 7800.0;
-    let largest = a.mass.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let largest = a.mass.values.iter().map(|v| v.abs()).max_of();
     for (x, y) in a.mass.values.iter().zip(&b.mass.values) {
         // each entry is ρ t ∫ N_a N_b dA summed over the same points: the ratio of the densities
         // up to the rounding of the sums (1e-15 of the largest entry)

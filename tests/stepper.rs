@@ -2,6 +2,7 @@
 //! input, outputs on request, snapshots in memory and as bytes.
 
 mod common;
+use common::Extremes;
 
 use pendulum_fem::commands::run::csv_values;
 use pendulum_fem::config::TorqueProfile as Kind;
@@ -188,7 +189,7 @@ fn steps_compute_no_nodal_stresses_until_asked() {
     assert_eq!(sim.stress_evaluations(), 0, "kinematic outputs compute no stresses");
     let vm = sim.von_mises_max();
     let nodal = sim.nodal_stress();
-    assert_eq!(vm, nodal.von_mises.iter().cloned().fold(0.0, f64::max));
+    assert_eq!(vm, nodal.von_mises.iter().cloned().max_of());
     assert_eq!(sim.stress_evaluations(), 2);
 }
 

@@ -3,7 +3,10 @@
 //! a failed row and never stops the others; an interrupted sweep resumed gives the summary of an
 //! uninterrupted one. The cases are short (`time.end = 0.1` to `0.5`) default runs.
 
-use std::path::{Path, PathBuf};
+mod common;
+use common::Extremes;
+
+use std::path::Path;
 use std::process::{Command, Output};
 
 use pendulum_fem::commands::run::EnergyAudit;
@@ -13,21 +16,6 @@ use pendulum_fem::simulation::{Model, StepRecord};
 use pendulum_fem::{mesh, Config};
 
 /// The binary, without the job-array variables of the environment the tests may run in.
-fn bin() -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
-    for var in ["SLURM_ARRAY_TASK_ID", "PBS_ARRAY_INDEX", "LSB_JOBINDEX"] {
-        c.env_remove(var);
-    }
-    c
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("sweep-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
@@ -95,9 +83,9 @@ fn metrics_from_csv(run: &Path, cfg: &Config) -> [Option<f64>; 8] {
         };
         audit.push(&record);
         period.push(record.time, record.theta);
-        lo = lo.min(record.theta);
-        hi = hi.max(record.theta);
-        vm = vm.max(r[col("von_mises_max_Pa")]);
+        lo = [lo, record.theta].into_iter().min_of();
+        hi = [hi, record.theta].into_iter().max_of();
+        vm = [vm, r[col("von_mises_max_Pa")]].into_iter().max_of();
         its += r[col("newton_iterations")];
     }
     let last = rows.last().unwrap();
@@ -117,9 +105,9 @@ const SHORT: [&str; 2] = ["--set", "time.end=0.1"];
 
 #[test]
 fn a_three_by_two_grid_gives_six_case_folders_whose_rows_equal_six_separate_runs() {
-    let dir = scratch("grid");
+    let dir = common::scratch("grid");
     let out = dir.join("sweep");
-    let o = bin()
+    let o = common::bin()
         .args(["sweep", "--quiet", "--jobs", "2"])
         .args([
             "--vary",
@@ -186,7 +174,7 @@ fn a_three_by_two_grid_gives_six_case_folders_whose_rows_equal_six_separate_runs
         assert!(!case.join("theta.png").exists(), "a case writes no plots by default");
         // the same case as a separate run, from the command line
         let run = dir.join(format!("run-{k}"));
-        let r = bin()
+        let r = common::bin()
             .args(["run", "--quiet"])
             .args(SHORT)
             .args(["--set", &format!("material.youngs_modulus={e}")])
@@ -241,10 +229,10 @@ fn study(end: &str) -> Vec<String> {
 
 #[test]
 fn case_index_for_every_case_then_gather_gives_the_local_summary() {
-    let dir = scratch("array");
+    let dir = common::scratch("array");
     let (local, array) = (dir.join("local"), dir.join("array"));
     let args = study("time.end=0.1");
-    let o = bin()
+    let o = common::bin()
         .args(["sweep", "--quiet"])
         .args(&args)
         .arg("--out")
@@ -252,10 +240,10 @@ fn case_index_for_every_case_then_gather_gives_the_local_summary() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    let o = bin().args(["sweep", "--list"]).args(&args).output().unwrap();
+    let o = common::bin().args(["sweep", "--list"]).args(&args).output().unwrap();
     assert_eq!(stdout(&o).trim(), "6", "--list prints the number of cases");
     for k in 0..6 {
-        let mut task = bin();
+        let mut task = common::bin();
         task.args(["sweep", "--quiet"]).args(&args).arg("--out").arg(&array);
         // the scheduler's variable or the option
         match k % 2 {
@@ -266,7 +254,7 @@ fn case_index_for_every_case_then_gather_gives_the_local_summary() {
         assert!(o.status.success(), "case {k}: {}", stderr(&o));
         assert!(!array.join("summary.csv").exists(), "a task writes no summary");
     }
-    let o = bin().args(["sweep", "--gather"]).arg(&array).output().unwrap();
+    let o = common::bin().args(["sweep", "--gather"]).arg(&array).output().unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
     // equal apart from the wall times: every other cell as text, so numbers bit for bit
     assert_eq!(
@@ -281,7 +269,7 @@ fn case_index_for_every_case_then_gather_gives_the_local_summary() {
         );
     }
     for index in [vec!["--case-index", "6"], vec!["--case-index", "99"]] {
-        let o = bin()
+        let o = common::bin()
             .args(["sweep"])
             .args(&args)
             .args(&index)
@@ -298,7 +286,7 @@ fn case_index_for_every_case_then_gather_gives_the_local_summary() {
     }
     // a missing case is listed and makes the gather fail
     std::fs::remove_file(array.join("case-0003/summary.csv")).unwrap();
-    let o = bin()
+    let o = common::bin()
         .args(["sweep", "--gather"])
         .arg(&array)
         .arg("--no-plots")
@@ -316,7 +304,7 @@ fn case_index_for_every_case_then_gather_gives_the_local_summary() {
 
 #[test]
 fn a_failing_case_is_marked_failed_with_its_message_and_the_others_complete() {
-    let dir = scratch("failing");
+    let dir = common::scratch("failing");
     let file = dir.join("study.toml");
     std::fs::write(
         &file,
@@ -340,7 +328,7 @@ initial.angle_deg = 30
     )
     .unwrap();
     let out = dir.join("sweep");
-    let o = bin()
+    let o = common::bin()
         .args(["sweep", "--quiet", "--file"])
         .arg(&file)
         .arg("--out")
@@ -401,11 +389,11 @@ initial.angle_deg = 30
 #[cfg(unix)]
 #[test]
 fn an_interrupted_sweep_resumed_gives_the_summary_of_an_uninterrupted_one() {
-    let dir = scratch("resume");
+    let dir = common::scratch("resume");
     let (whole, parts) = (dir.join("whole"), dir.join("parts"));
     // ten cases of 50 steps
     let args = ["--vary", "initial.angle_deg=5:50:10", "--set", "time.end=0.5"];
-    let o = bin()
+    let o = common::bin()
         .args(["sweep", "--quiet", "--no-plots", "--jobs", "2"])
         .args(args)
         .arg("--out")
@@ -413,7 +401,7 @@ fn an_interrupted_sweep_resumed_gives_the_summary_of_an_uninterrupted_one() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    let mut child = bin()
+    let mut child = common::bin()
         .args(["sweep", "--quiet", "--no-plots", "--jobs", "1"])
         .args(args)
         .arg("--out")
@@ -458,7 +446,7 @@ fn an_interrupted_sweep_resumed_gives_the_summary_of_an_uninterrupted_one() {
         })
         .collect();
     // without --resume the folder is refused, untouched
-    let o = bin()
+    let o = common::bin()
         .args(["sweep", "--quiet"])
         .args(args)
         .arg("--out")
@@ -466,7 +454,7 @@ fn an_interrupted_sweep_resumed_gives_the_summary_of_an_uninterrupted_one() {
         .output()
         .unwrap();
     assert!(!o.status.success() && stderr(&o).contains("--resume"), "{}", stderr(&o));
-    let o = bin()
+    let o = common::bin()
         .args(["sweep", "--no-plots", "--resume"])
         .args(args)
         .arg("--out")
@@ -494,7 +482,7 @@ fn an_interrupted_sweep_resumed_gives_the_summary_of_an_uninterrupted_one() {
 
 #[test]
 fn resume_keeps_cases_whose_outputs_changed_and_refuses_cases_run_with_another_configuration() {
-    let dir = scratch("stale");
+    let dir = common::scratch("stale");
     let out = dir.join("sweep");
     let args = [
         "--quiet",
@@ -504,9 +492,15 @@ fn resume_keeps_cases_whose_outputs_changed_and_refuses_cases_run_with_another_c
         "--set",
         "time.end=0.05",
     ];
-    let o = bin().arg("sweep").args(args).arg("--out").arg(&out).output().unwrap();
+    let o = common::bin()
+        .arg("sweep")
+        .args(args)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    let o = bin()
+    let o = common::bin()
         .arg("sweep")
         .args(args)
         .args(["--resume", "--all-outputs"])
@@ -515,7 +509,7 @@ fn resume_keeps_cases_whose_outputs_changed_and_refuses_cases_run_with_another_c
         .output()
         .unwrap();
     assert!(o.status.success(), "other outputs are no other cases: {}", stderr(&o));
-    let o = bin()
+    let o = common::bin()
         .arg("sweep")
         .args(args)
         .args(["--resume", "--set", "time.dt=0.005"])
@@ -529,7 +523,7 @@ fn resume_keeps_cases_whose_outputs_changed_and_refuses_cases_run_with_another_c
         "{}",
         stderr(&o)
     );
-    let o = bin()
+    let o = common::bin()
         .args(["sweep", "--quiet", "--vary", "initial.angle_deg=10,30"])
         .arg("--out")
         .arg(&out)
@@ -551,7 +545,7 @@ fn bad_vary_arguments_name_the_argument_and_the_allowed_forms() {
         "initial.angle_deg=0..10:3",
         "E=1,2",
     ] {
-        let o = bin().args(["sweep", "--list", "--vary", bad]).output().unwrap();
+        let o = common::bin().args(["sweep", "--list", "--vary", bad]).output().unwrap();
         assert!(!o.status.success(), "{bad} accepted");
         let msg = stderr(&o);
         assert!(
@@ -559,7 +553,7 @@ fn bad_vary_arguments_name_the_argument_and_the_allowed_forms() {
             "{bad}: {msg}"
         );
     }
-    let o = bin()
+    let o = common::bin()
         .args(["sweep", "--list", "--vary", "material.youngs_modulu=1,2"])
         .output()
         .unwrap();
@@ -569,7 +563,7 @@ fn bad_vary_arguments_name_the_argument_and_the_allowed_forms() {
         "{}",
         stderr(&o)
     );
-    let o = bin()
+    let o = common::bin()
         .args([
             "sweep",
             "--list",
@@ -582,7 +576,7 @@ fn bad_vary_arguments_name_the_argument_and_the_allowed_forms() {
         .output()
         .unwrap();
     assert!(!o.status.success() && stderr(&o).contains("--zip"), "{}", stderr(&o));
-    let o = bin()
+    let o = common::bin()
         .args([
             "sweep",
             "--list",

@@ -2,6 +2,7 @@
 //! rigid-body invariance of the strain energy.
 
 mod common;
+use common::Extremes;
 
 use pendulum_fem::assembly::Pattern;
 use pendulum_fem::config::{self, MaterialModel};
@@ -19,13 +20,6 @@ fn soft_material(model: MaterialModel) -> Material {
         poisson_ratio: 0.45,
         ..Default::default()
     })
-}
-
-/// A deterministic pseudo-random displacement of amplitude `amp`.
-fn wiggle(n: usize, amp: f64) -> Vec<f64> {
-    (0..n)
-        .map(|i| amp * ((i as f64 * 12.9898).sin() * 43758.5453).fract())
-        .collect()
 }
 
 /// Every seventh degree of freedom, a step of 0.1 µm, 1e-5 relative.
@@ -47,7 +41,7 @@ fn elastic_gradient_and_hessian_match_finite_differences() {
     for model in [MaterialModel::NeoHookean, MaterialModel::SaintVenantKirchhoff] {
         let cache = FeCache::new(&mesh, &TriangleRule::degree4(), 0.01).unwrap();
         let elastic = Elastic::new(soft_material(model), &mesh, cache);
-        let u = wiggle(2 * mesh.num_nodes(), 2e-3);
+        let u = common::wiggle(2 * mesh.num_nodes(), 2e-3, 0.0);
         check_term(&elastic, &pattern, &u, &format!("{model:?}"));
     }
 }
@@ -61,9 +55,9 @@ fn inertia_and_gravity_gradients_match_finite_differences() {
         mass: &mass,
         pattern: &pattern,
         factor: 4e4,
-        predictor: wiggle(2 * mesh.num_nodes(), 1e-3),
+        predictor: common::wiggle(2 * mesh.num_nodes(), 1e-3, 0.0),
     };
-    let u = wiggle(2 * mesh.num_nodes(), 3e-3);
+    let u = common::wiggle(2 * mesh.num_nodes(), 3e-3, 0.0);
     check_term(&inertia, &pattern, &u, "inertia");
     check_term(&Gravity::gravity(&mesh, 7800.0, 0.01, 9.81), &pattern, &u, "gravity");
 }
@@ -112,7 +106,7 @@ fn affine_displacement_passes_the_patch_test() {
         let mut g = vec![0.0; u.len()];
         elastic.add_gradient(&u, &StepContext::at(&u, 0.0, 0.0, None), &mut g);
         let boundary: std::collections::HashSet<usize> = mesh.boundary_edges.iter().flat_map(|e| e.nodes).collect();
-        let scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let scale = g.iter().map(|v| v.abs()).max_of();
         assert!(scale > 0.0);
         for node in 0..mesh.num_nodes() {
             if !boundary.contains(&node) {
@@ -151,6 +145,6 @@ fn rigid_rotation_has_zero_elastic_energy_and_force() {
     assert!(
         g.iter().all(|x| x.abs() < 1e-3),
         "max force {}",
-        g.iter().fold(0.0f64, |a, b| a.max(b.abs()))
+        g.iter().map(|v| v.abs()).max_of()
     );
 }

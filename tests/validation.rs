@@ -1,5 +1,5 @@
 //! The tutorial's pendulum on the real curved mesh, verified against NGSolve runs of the tutorial
-//! and against the exact rigid compound pendulum (`tests/data`, copied from `shared/reference`).
+//! and against the exact rigid compound pendulum (`tests/data/README.md`, `tests/common/exact.rs`).
 //!
 //! The steel pendulum is rigid to about 1e-8 in strain, so its proxy angle follows the rigid
 //! pendulum with the exact mass, first and polar moments of the curved geometry (our mesh
@@ -10,21 +10,19 @@
 //! explicitly; the other claims hold for the default energy-momentum scheme.
 
 mod common;
+use common::Extremes;
 
 use pendulum_fem::config::{InitialAcceleration, InitialElastic, Scheme};
 use pendulum_fem::post::PeriodEstimator;
 use pendulum_fem::run::csv::read_numeric_csv;
 use pendulum_fem::Config;
 
-const EXACT_MASS: f64 = 1.084295939; // kg
-const EXACT_PERIOD_20_DEG: f64 = 0.957885229; // s
+use common::exact::{MASS as EXACT_MASS, PERIOD_20_DEG as EXACT_PERIOD_20_DEG};
 
 use common::simulate;
 
 fn reference(name: &str) -> Vec<(f64, f64, f64)> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name);
+    let path = common::root().join("tests/data").join(name);
     let (names, rows) = read_numeric_csv(&path).unwrap();
     assert_eq!(names, ["t_s", "theta_rad", "newton_iterations"]);
     rows.into_iter().map(|r| (r[0], r[1], r[2])).collect()
@@ -37,11 +35,14 @@ fn compare_with_ngsolve(acceleration: InitialAcceleration, file: &str) {
     let (sim, records) = simulate(&cfg);
     let refs = reference(file);
     assert_eq!(refs.len(), records.len());
-    let mut worst = 0.0f64;
-    for (r, (t, theta, _)) in records.iter().zip(&refs) {
+    for (r, (t, _, _)) in records.iter().zip(&refs) {
         assert!((r.time - t).abs() < 1e-9);
-        worst = worst.max((r.theta - theta).abs().to_degrees());
     }
+    let worst = records
+        .iter()
+        .zip(&refs)
+        .map(|(r, (_, theta, _))| (r.theta - theta).abs().to_degrees())
+        .max_of();
     println!(
         "{file}: largest |θ − θ_NGSolve| = {worst:.2e} deg, {} Newton iterations",
         sim.total_iterations
@@ -110,8 +111,8 @@ fn total_energy_over_five_seconds_stays_within_a_millionth_of_the_kinetic_energy
     cfg.time.end = 5.0;
     let (sim, records) = simulate(&cfg);
     let e0 = records[0].total;
-    let kin_max = records.iter().map(|r| r.kinetic).fold(0.0, f64::max);
-    let drift = records.iter().map(|r| (r.total - e0).abs()).fold(0.0, f64::max) / kin_max;
+    let kin_max = records.iter().map(|r| r.kinetic).max_of();
+    let drift = records.iter().map(|r| (r.total - e0).abs()).max_of() / kin_max;
     println!(
         "energy drift {drift:.2e} of the largest kinetic energy {kin_max:.6} J, {:.2} Newton iterations per step",
         sim.total_iterations as f64 / 500.0
@@ -122,7 +123,7 @@ fn total_energy_over_five_seconds_stays_within_a_millionth_of_the_kinetic_energy
     // the trapezoidal rule, for comparison, drifts by 2e-4 here
     cfg.time.scheme = Scheme::Trapezoidal;
     let (_, trapezoidal) = simulate(&cfg);
-    let drift_t = trapezoidal.iter().map(|r| (r.total - e0).abs()).fold(0.0, f64::max) / kin_max;
+    let drift_t = trapezoidal.iter().map(|r| (r.total - e0).abs()).max_of() / kin_max;
     println!("trapezoidal: energy drift {drift_t:.2e}");
     assert!(drift_t > 100.0 * drift);
 }
@@ -149,11 +150,7 @@ fn an_undeformed_rigid_start_and_an_equilibrium_start_agree_for_steel() {
     let (_, eq) = simulate(&cfg);
     cfg.initial.elastic = Some(InitialElastic::Undeformed);
     let (_, und) = simulate(&cfg);
-    let worst = eq
-        .iter()
-        .zip(&und)
-        .map(|(a, b)| (a.theta - b.theta).abs())
-        .fold(0.0, f64::max);
+    let worst = eq.iter().zip(&und).map(|(a, b)| (a.theta - b.theta).abs()).max_of();
     // steel strains are ~1e-8: the pre-deformation moves θ by far less than the 0.01° bar
     assert!(worst.to_degrees() < 1e-5, "{worst}");
 }
@@ -177,23 +174,23 @@ fn a_soft_pendulum_stretches_swings_slower_than_the_rigid_one_and_matches_ngsolv
         .iter()
         .zip(&refs)
         .map(|(r, (_, th, _))| (r.theta - th).abs())
-        .fold(0.0, f64::max)
+        .max_of()
         .to_degrees();
     let mut est = PeriodEstimator::default();
     records.iter().for_each(|r| est.push(r.time, r.theta));
     let period = est.period().expect("two zero crossings in 1 s");
-    let strain_peak = records.iter().map(|r| r.strain).fold(0.0, f64::max);
-    let kinetic_peak = records.iter().map(|r| r.kinetic).fold(0.0, f64::max);
+    let strain_peak = records.iter().map(|r| r.strain).max_of();
+    let kinetic_peak = records.iter().map(|r| r.kinetic).max_of();
     println!(
         "soft: largest |θ − θ_NGSolve| {worst:.2e} deg, period {period:.6} s (rigid 0.988593554 s), \
          strain/kinetic peaks {:.2e}, {} Newton iterations (NGSolve 701)",
         strain_peak / kinetic_peak,
         sim.total_iterations
     );
-    // measured 1.1e-3 deg; the two meshes (Netgen 1180 triangles, ours 1383) resolve the soft
-    // body's deformation slightly differently, so the bar is 5e-3 deg
+    // the two meshes (Netgen's 1180 triangles and ours) resolve the soft body's deformation
+    // slightly differently, so the bar is 5e-3 deg
     assert!(worst < 5e-3, "largest deviation from NGSolve {worst} deg");
-    // measurably longer than the rigid period (measured +0.49 %), and visibly strained
+    // longer than the rigid period by more than 0.2 %, and visibly strained
     assert!(period > 0.988593554 * 1.002, "period {period}");
     assert!(strain_peak > 1e-3 * kinetic_peak, "strain energy peak {strain_peak} J");
 }

@@ -2,22 +2,18 @@
 //! headless Chromium (`.ci/run` installs it; elsewhere the browser tests skip with a visible
 //! warning, and fail when `CI` is set).
 
-#[path = "common/plate.rs"]
-mod plate;
-#[path = "common/tools.rs"]
-mod tools;
+mod common;
+use common::{plate, tools};
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
 
 use pendulum_fem::config::Output;
 use plate::*;
 
 /// Writes a viewer for a 30-step swing and returns its path.
 fn viewer_file(name: &str) -> (PathBuf, usize) {
-    let dir = temp_dir(name);
+    let dir = common::scratch(name);
     let mesh = plate_mesh(2, 10);
     let output = Output {
         plots: false,
@@ -84,67 +80,18 @@ fn viewer_is_one_self_contained_file_with_the_kept_frames_embedded() {
     );
 }
 
-/// The Chromium binary; `None` (after a visible warning) when it is missing outside CI, a failure on CI.
-#[track_caller]
-fn chromium(test: &str) -> Option<PathBuf> {
-    let found = tools::on_path(&["chromium", "chromium-browser", "google-chrome"]);
-    tools::tool_or_skip(test, found.is_some(), "chromium", "apt-get install chromium").then_some(found?)
-}
-
-/// Runs headless Chromium with `args` and a fresh profile; returns stdout. Fails after 90 s.
-fn run_chromium(binary: &Path, args: &[String]) -> String {
-    let profile = temp_dir("chromium-profile");
-    let mut child = Command::new(binary)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--hide-scrollbars",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("start chromium");
-    let mut stdout = child.stdout.take().unwrap();
-    let reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        std::io::Read::read_to_string(&mut stdout, &mut s).unwrap();
-        s
-    });
-    let deadline = Instant::now() + Duration::from_secs(90);
-    loop {
-        if child.try_wait().unwrap().is_some() {
-            break;
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("chromium did not finish within 90 s");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    reader.join().unwrap()
-}
-
 fn file_url(path: &Path) -> String {
     format!("file://{}", std::fs::canonicalize(path).unwrap().display())
 }
 
 #[test]
 fn viewer_draws_and_the_slider_and_field_selector_change_the_picture_in_chromium() {
-    let Some(chrome) = chromium("viewer_draws_and_the_slider_and_field_selector_change_the_picture_in_chromium") else {
+    let Some(chrome) = tools::chromium("viewer_draws_and_the_slider_and_field_selector_change_the_picture_in_chromium")
+    else {
         return;
     };
     let (path, _) = viewer_file("viewer-selftest");
-    let dom = run_chromium(&chrome, &["--dump-dom".into(), format!("{}#selftest", file_url(&path))]);
+    let dom = tools::run_chromium(&chrome, &["--dump-dom".into(), format!("{}#selftest", file_url(&path))]);
     let start =
         dom.find(r#"<pre id="selftest">"#).expect("selftest element in the DOM") + r#"<pre id="selftest">"#.len();
     let end = start + dom[start..].find("</pre>").unwrap();
@@ -171,12 +118,12 @@ fn viewer_draws_and_the_slider_and_field_selector_change_the_picture_in_chromium
 
 #[test]
 fn viewer_screenshot_in_chromium_is_not_blank() {
-    let Some(chrome) = chromium("viewer_screenshot_in_chromium_is_not_blank") else {
+    let Some(chrome) = tools::chromium("viewer_screenshot_in_chromium_is_not_blank") else {
         return;
     };
     let (path, _) = viewer_file("viewer-screenshot");
     let shot = path.with_file_name("screenshot.png");
-    run_chromium(
+    tools::run_chromium(
         &chrome,
         &[
             "--window-size=1300,800".into(),

@@ -1,10 +1,91 @@
-//! Shared fixtures and mesh checks for the integration tests.
+//! Shared fixtures of the integration tests: the repository's root, fresh scratch folders, the
+//! CLI built for the test, NaN-checking maxima, the exact rigid pendulum, deterministic fields,
+//! mesh checks and the structured fixture of the solver tests. Every test file includes it with
+//! `mod common;`; its submodules hold the helpers of some files only.
 #![allow(dead_code)]
 
+pub mod exact;
+pub mod msh;
+pub mod plate;
+pub mod python;
+pub mod tools;
+
 use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use pendulum_fem::mesh::BoundaryEdge;
 use pendulum_fem::{Config, Mesh};
+
+/// The repository's root (the root package's folder).
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A fresh, empty folder `<test>-<name>-<process>-<n>` under cargo's temporary folder for
+/// integration tests (`target/tmp`): a new one on every call, so that tests running in parallel
+/// threads never share one (`<test>` is the test file's name).
+pub fn scratch(name: &str) -> PathBuf {
+    static CALLS: AtomicUsize = AtomicUsize::new(0);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!(
+        "{}-{name}-{}-{}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id(),
+        CALLS.fetch_add(1, Ordering::SeqCst)
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("scratch folder {}: {e}", dir.display()));
+    dir
+}
+
+/// The `pendulum-fem` binary cargo built for this test, without the job-array variables of Slurm,
+/// PBS and LSF in its environment (`pendulum-fem sweep` reads them to pick its case; a test run
+/// inside such a job must not inherit one).
+pub fn bin() -> Command {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
+    for var in ["SLURM_ARRAY_TASK_ID", "PBS_ARRAY_INDEX", "LSB_JOBINDEX"] {
+        cmd.env_remove(var);
+    }
+    cmd
+}
+
+/// The largest and smallest of an iterator of results, checked: `f64::max` and `f64::min` drop a
+/// NaN (`f64::max(1.0, NaN) = 1.0`), so a fold with them passes a NaN result unnoticed. These
+/// panic on a NaN, and on no values at all (a check over nothing checks nothing).
+pub trait Extremes: Iterator<Item = f64> + Sized {
+    /// The largest value.
+    #[track_caller]
+    fn max_of(self) -> f64 {
+        extreme(self, f64::max, "largest")
+    }
+
+    /// The smallest value.
+    #[track_caller]
+    fn min_of(self) -> f64 {
+        extreme(self, f64::min, "smallest")
+    }
+}
+
+impl<I: Iterator<Item = f64>> Extremes for I {}
+
+#[track_caller]
+fn extreme(values: impl Iterator<Item = f64>, pick: fn(f64, f64) -> f64, what: &str) -> f64 {
+    let mut found: Option<f64> = None;
+    for (k, v) in values.enumerate() {
+        assert!(!v.is_nan(), "the {what} of values that include a NaN (value {k})");
+        found = Some(found.map_or(v, |m| pick(m, v)));
+    }
+    found.unwrap_or_else(|| panic!("the {what} of no values"))
+}
+
+/// A deterministic pseudo-random field of `n` values in `(−amp, amp)`: the fractional part of a
+/// sine hash of the index shifted by `seed` (seeds differing by less than `n` overlap, shifted).
+pub fn wiggle(n: usize, amp: f64, seed: f64) -> Vec<f64> {
+    (0..n)
+        .map(|i| amp * (((i as f64 + seed) * 12.9898).sin() * 43758.5453).fract())
+        .collect()
+}
 
 /// Meshes the pendulum of `cfg` and runs it to `time.end`: the simulation and every record (the
 /// initial state first).
@@ -228,7 +309,7 @@ pub fn check_derivatives(
         (e - term.energy(u, &cx)).abs() <= 1e-12 * e.abs().max(1e-12),
         "{label}: fused energy differs"
     );
-    let g_scale = g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let g_scale = g.iter().map(|v| v.abs()).max_of();
     let h = probe.step;
     for &dof in probe.dofs {
         let (mut up, mut um) = (u.to_vec(), u.to_vec());
@@ -248,7 +329,7 @@ pub fn check_derivatives(
         pattern.sym_matvec(&k, &unit, &mut col);
         let k_scale = probe
             .hessian_scale
-            .unwrap_or_else(|| col.iter().fold(0.0f64, |a, b| a.max(b.abs())).max(1e-300));
+            .unwrap_or_else(|| col.iter().map(|v| v.abs()).max_of().max(1e-300));
         for r in 0..n {
             let fd = (gp[r] - gm[r]) / (2.0 * h);
             assert!(

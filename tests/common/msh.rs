@@ -1,4 +1,4 @@
-//! A binary Gmsh 4.1 writer for the reader's tests (used as `#[path = "common/msh.rs"] mod msh;`).
+//! A binary Gmsh 4.1 writer for the reader's tests (`common::msh`).
 #![allow(dead_code)]
 
 use pendulum_fem::mesh::Mesh;

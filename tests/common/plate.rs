@@ -1,11 +1,10 @@
-//! Fixtures for the output tests (used as `#[path = "common/plate.rs"] mod plate;`): a hand-built
-//! six-node-triangle mesh of a rectangular plate hanging from the origin, synthetic frames (a rigid swing θ(t) = 0.35 cos(6.6 t) plus a small
-//! elastic field) and a synthetic `results.csv`.
+//! Fixtures of the output tests (`common::plate`): a hand-built six-node-triangle mesh of a
+//! rectangular plate hanging from the origin, synthetic frames (a rigid swing θ(t) = 0.35 cos(6.6 t)
+//! plus a small elastic field) and a synthetic `results.csv`.
 #![allow(dead_code)]
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use pendulum_fem::config::Output;
 use pendulum_fem::mesh::{BoundaryEdge, Mesh};
@@ -171,19 +170,6 @@ pub fn write_results_csv(dir: &Path, steps: usize, dt: f64) {
         ));
     }
     std::fs::write(dir.join("results.csv"), s).unwrap();
-}
-
-/// A fresh, empty folder under the target's temporary directory.
-pub fn temp_dir(name: &str) -> PathBuf {
-    static N: AtomicUsize = AtomicUsize::new(0);
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!(
-        "{name}-{}-{}",
-        std::process::id(),
-        N.fetch_add(1, Ordering::SeqCst)
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// Output settings with every flag on.

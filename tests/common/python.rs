@@ -178,7 +178,7 @@ pub fn outside_the_source_tree(name: &str) -> PathBuf {
 /// and returns it (`results.csv`, and `events.csv` with a wall).
 pub fn cli_run(out: &Path, sets: &[&str]) -> PathBuf {
     let _ = std::fs::remove_dir_all(out);
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_pendulum-fem"));
+    let mut cmd = super::bin();
     cmd.args(["run", "--quiet"]);
     for set in sets {
         cmd.args(["--set", set]);

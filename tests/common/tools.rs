@@ -1,5 +1,4 @@
-//! External tools some tests need (meshio, Chromium, Gmsh), used as
-//! `#[path = "common/tools.rs"] mod tools;`.
+//! External tools some tests need (meshio, Chromium, Gmsh), in `common::tools`.
 //!
 //! [`tool_or_skip`]: with `CI` set, a missing tool fails the test with what to install; elsewhere
 //! the test returns early after a warning line written straight to the process's stderr, which the
@@ -11,6 +10,9 @@
 #![allow(dead_code)]
 
 use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 /// Whether the test may use the tool. `available`: the probe's result; `what`: the tool as a user
 /// would name it; `install`: how to get it.
@@ -44,11 +46,60 @@ pub fn python_module(module: &str) -> bool {
 }
 
 /// The first of `names` found on `PATH`.
-pub fn on_path(names: &[&str]) -> Option<std::path::PathBuf> {
+pub fn on_path(names: &[&str]) -> Option<PathBuf> {
     let paths = std::env::var_os("PATH")?;
     names.iter().find_map(|name| {
         std::env::split_paths(&paths)
             .map(|d| d.join(name))
             .find(|p| p.is_file())
     })
+}
+
+/// The Chromium binary for `test`; `None` (after the warning of [`tool_or_skip`]) when it is
+/// missing outside CI, a failure on CI.
+#[track_caller]
+pub fn chromium(test: &str) -> Option<PathBuf> {
+    let found = on_path(&["chromium", "chromium-browser", "google-chrome"]);
+    tool_or_skip(test, found.is_some(), "chromium", "apt-get install chromium").then_some(found?)
+}
+
+/// Runs headless Chromium with `args` and a fresh profile; returns stdout. Fails after 90 s.
+pub fn run_chromium(binary: &Path, args: &[String]) -> String {
+    let profile = super::scratch("chromium-profile");
+    let mut child = Command::new(binary)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--hide-scrollbars",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start chromium");
+    let mut stdout = child.stdout.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        std::io::Read::read_to_string(&mut stdout, &mut s).unwrap();
+        s
+    });
+    let deadline = Instant::now() + Duration::from_secs(90);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("chromium did not finish within 90 s");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let _ = std::fs::remove_dir_all(&profile);
+    reader.join().unwrap()
 }

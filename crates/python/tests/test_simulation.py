@@ -382,9 +382,9 @@ def test_a_torque_input_declared_with_the_deformable_wall_keeps_the_mesh_of_both
 
 def test_the_reduced_body_runs_from_python_conserving_energy_and_follows_the_full_model():
     """`model.kind = "reduced"` through the package: the energy is conserved to the solver's
-    tolerance (1e-12 of the total, measured 3e-14 through the CLI), the angle follows the full
-    model's within 1e-4 rad at dt = 0.01 s (the two time schemes' phase errors differ by 3.9e-5 rad
-    over the second, measured), and a snapshot of it replays bit for bit."""
+    tolerance (1e-12 of the total), the angle follows the full model's within 1e-4 rad at
+    dt = 0.01 s (the two time schemes' phase errors differ), and a snapshot of it replays bit for
+    bit."""
     reduced = Simulation(model={"kind": "reduced"})
     rows = reduced.run(1.0, 0.01)
     full = Simulation().run(1.0, 0.01)
@@ -408,9 +408,8 @@ def test_the_reduced_body_runs_from_python_conserving_energy_and_follows_the_ful
 def test_the_reduced_body_strikes_the_deformable_wall_from_python_as_the_full_model_does():
     """The block reduced beside the pendulum (`wall.kind = "deformable"`) through the package: one
     impact in 0.4 s, as in the full model; the angle within 1e-4 rad of the full model's at
-    dt = 0.01 s (the two time schemes' phase errors differ by 3.9e-5 rad over a second without a
-    wall; through the CLI the impacts come within 5.2e-6 s); the energy to 1e-12 of the total (the
-    solver's tolerance; measured 3e-15 J of 3.7 J through the CLI); no warning (steel applies)."""
+    dt = 0.01 s (the two time schemes' phase errors differ); the energy to 1e-12 of the total (the
+    solver's tolerance); no warning (steel applies)."""
     wall = {"kind": "deformable"}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -21,7 +21,7 @@ import numpy as np
 from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
-from fmu_common import report
+from fmu_common import largest, report
 
 fmu2, fmu3, events_csv, stop = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
 STEP = 0.05
@@ -63,7 +63,7 @@ ref = grid_rows(run(fmu2))
 def compare(res):
     rows = grid_rows(res)
     same_points = sorted(rows) == sorted(ref)
-    theta = max(abs(float(rows[k]["theta"]) - float(ref[k]["theta"])) for k in ref) if same_points else float("inf")
+    theta = largest(abs(float(rows[k]["theta"]) - float(ref[k]["theta"])) for k in ref) if same_points else float("inf")
     counts = same_points and all(int(rows[k]["contact_count"]) == int(ref[k]["contact_count"]) for k in ref)
     return theta, bool(counts)
 
@@ -86,7 +86,7 @@ evented = run(fmu3, use_event_mode=True, early_return_allowed=False)
 theta_evented, counts_evented = compare(evented)
 
 ok = (not problems and len(starts) >= 2 and len(returns) == len(starts)
-      and max(start_errors) <= TIME_TOL and count_steps == [1] * len(returns)
+      and largest(start_errors) <= TIME_TOL and count_steps == [1] * len(returns)
       and theta_early <= THETA_TOL and counts_early
       and theta_plain <= THETA_TOL and counts_plain and plain_on_grid
       and theta_evented <= THETA_TOL and counts_evented)

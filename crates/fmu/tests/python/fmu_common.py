@@ -3,6 +3,7 @@ drive an instance step by step, and report a result as one JSON line on stdout."
 
 import atexit
 import json
+import math
 import shutil
 import sys
 import tempfile
@@ -85,6 +86,15 @@ def report(ok, **figures):
     """One JSON line for the Rust test; exit code 0 only when ok."""
     print(json.dumps({"ok": bool(ok), **figures}))
     sys.exit(0 if ok else 1)
+
+
+def largest(values):
+    """The largest of `values`, NaN when any is NaN (the built-in `max` drops a NaN that is not
+    first, so a bound checked on it would pass); inf for none."""
+    values = [float(v) for v in values]
+    if any(math.isnan(v) for v in values):
+        return float("nan")
+    return max(values, default=float("inf"))
 
 
 def bits(values):
