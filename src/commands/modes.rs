@@ -252,7 +252,7 @@ pub fn modes_command(cfg: &Config, n: usize, out_dir: &Path) -> Result<ModesRepo
     };
     let json = out_dir.join("modes.json");
     let text = serde_json::to_string_pretty(&report.to_json()).expect("JSON of numbers and strings");
-    crate::render::write_atomically(&json, |w| writeln!(w, "{text}"))?;
+    crate::store::write_atomically(&json, |w| writeln!(w, "{text}"))?;
     report.files.insert(0, json);
     Ok(report)
 }

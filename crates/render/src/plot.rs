@@ -303,7 +303,7 @@ pub(crate) fn render_png(
         draw(&root).map_err(|e| plot_error(path, e))?;
         root.present().map_err(|e| plot_error(path, e))?;
     }
-    crate::write_atomically(path, |w| {
+    pendulum_fem_core::store::write_atomically(path, |w| {
         let mut enc = png::Encoder::new(w, size.0, size.1);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);

@@ -132,7 +132,7 @@ impl PvdWriter {
 
     fn write_pvd(&self) -> Result<(), Error> {
         let wall = self.wall.as_ref().filter(|w| w.rigid).map(|_| WALL_VTU);
-        crate::write_atomically(&self.pvd_path(), |w| write_pvd_to(w, &self.entries, wall))
+        pendulum_fem_core::store::write_atomically(&self.pvd_path(), |w| write_pvd_to(w, &self.entries, wall))
     }
 }
 

@@ -55,7 +55,7 @@ pub fn write_viewer(
     title: &str,
 ) -> Result<(), Error> {
     let html = viewer_html(mesh, frames, scene, history, title);
-    crate::write_atomically(path, |w| w.write_all(html.as_bytes()))
+    pendulum_fem_core::store::write_atomically(path, |w| w.write_all(html.as_bytes()))
 }
 
 /// The page as a string (see [`write_viewer`]).

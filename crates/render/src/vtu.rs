@@ -33,8 +33,8 @@ use std::io::Write;
 use std::path::Path;
 
 use super::{Field, FieldData};
-use crate::write_atomically;
 use crate::{Error, Mesh};
+use pendulum_fem_core::store::write_atomically;
 
 /// VTK cell type of the quadratic triangle.
 pub const VTK_QUADRATIC_TRIANGLE: u8 = 22;

@@ -5,8 +5,8 @@
 use pendulum_fem_core::simulation::{Simulation, StepRecord};
 use pendulum_fem_core::{Config, Error};
 
-use crate::files::write_atomically;
 use crate::rows::{csv_values, record_of_row};
+use pendulum_fem_core::store::write_atomically;
 
 /// The latest snapshot of a run with checkpoints ([`pendulum_fem_core::Snapshot::to_bytes`]).
 pub const CHECKPOINT_SNAP: &str = "checkpoint.snap";

@@ -165,7 +165,7 @@ pub(crate) fn write_events(dir: &std::path::Path, events: &[ContactEvent]) -> Re
             event_name(e.kind)
         ));
     }
-    crate::files::write_atomically(&dir.join("events.csv"), |w| w.write_all(text.as_bytes()))
+    pendulum_fem_core::store::write_atomically(&dir.join("events.csv"), |w| w.write_all(text.as_bytes()))
 }
 
 /// The record of a `results.csv` row (in [`csv_values`] order) of step `step`.
