@@ -7,7 +7,7 @@ mod tools;
 
 use std::path::{Path, PathBuf};
 
-use pendulum_fem::run::csv::read_numeric_csv;
+use pendulum_fem::store::Table;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -24,14 +24,16 @@ fn run_script(args: &[&str], tag: &str) -> Vec<(f64, f64, f64)> {
         .output()
         .expect("python3 runs");
     assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
-    let (names, rows) = read_numeric_csv(&out).unwrap();
+    let (names, rows) = Table::read(&out).map(|t| (t.names, t.rows)).unwrap();
     assert_eq!(names, ["t_s", "theta_rad", "newton_iterations"]);
     let _ = std::fs::remove_file(&out);
     rows.into_iter().map(|r| (r[0], r[1], r[2])).collect()
 }
 
 fn reference(name: &str) -> Vec<(f64, f64, f64)> {
-    let (_, rows) = read_numeric_csv(&root().join("tests/data").join(name)).unwrap();
+    let (_, rows) = Table::read(&root().join("tests/data").join(name))
+        .map(|t| (t.names, t.rows))
+        .unwrap();
     rows.into_iter().map(|r| (r[0], r[1], r[2])).collect()
 }
 

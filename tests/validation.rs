@@ -13,7 +13,7 @@ mod common;
 
 use pendulum_fem::config::{InitialAcceleration, InitialElastic, Scheme};
 use pendulum_fem::post::PeriodEstimator;
-use pendulum_fem::run::csv::read_numeric_csv;
+use pendulum_fem::store::Table;
 use pendulum_fem::Config;
 
 const EXACT_MASS: f64 = 1.084295939; // kg
@@ -25,7 +25,7 @@ fn reference(name: &str) -> Vec<(f64, f64, f64)> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
         .join(name);
-    let (names, rows) = read_numeric_csv(&path).unwrap();
+    let (names, rows) = Table::read(&path).map(|t| (t.names, t.rows)).unwrap();
     assert_eq!(names, ["t_s", "theta_rad", "newton_iterations"]);
     rows.into_iter().map(|r| (r[0], r[1], r[2])).collect()
 }

@@ -18,12 +18,11 @@ use crate::Error;
 
 /// File names inside the output folder.
 pub mod names {
-    /// The solver's time history (read by the plots).
+    /// The solver's time history, a row per step.
     pub const RESULTS_CSV: &str = "results.csv";
-    /// The contact events of a run with a wall (read by the plots for the impact marks).
+    /// The contact events of a run with a wall, a row per event as it happens.
     pub const EVENTS_CSV: &str = "events.csv";
-    /// The records of the sub-steps inside impacts, the columns of `results.csv` (read by the
-    /// plots beside it).
+    /// The records of the sub-steps inside impacts, the columns of `results.csv`.
     pub const IMPACTS_CSV: &str = "impacts.csv";
     /// θ(t) plot.
     pub const THETA_PNG: &str = "theta.png";
