@@ -424,7 +424,7 @@ mod tests {
         let curves = h.energy_curves();
         assert_eq!(curves.len(), 3, "no torque curve without a torque");
         let (lo, hi) = range_of(curves.iter().flat_map(|c| c.1.iter()));
-        // the kinetic energy spans at least 40 % of the panel (it was 5 % with −2 J in it)
+        // the kinetic energy spans at least 40 % of the panel
         assert!(0.12 / (hi - lo) > 0.4, "panel [{lo}, {hi}]");
         assert!(!h.has_torque());
         h.torque = vec![0.5; n + 1];
@@ -457,7 +457,7 @@ mod tests {
             (-0.1 - 1.01..-0.1).contains(&lo),
             "axis bottom {lo}: the data end at −0.1°"
         );
-        // 20° + 5 % padding + 30 % for the legend = 27.6°; with the −20° line it was 35.2°
+        // 20° + 5 % padding + 30 % for the legend = 27.6°; with a −20° line it would be 35.2°
         assert!(hi < 28.0, "axis top {hi}");
         // a torque or a spin: no lines at all
         assert!(theta_limits(&swing(2.0, -90.0), true).0.is_empty());
