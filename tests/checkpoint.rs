@@ -213,3 +213,36 @@ fn a_restart_finds_the_same_model_through_a_relative_torque_table_and_the_deform
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_wall_run_restarted_from_an_earlier_checkpoint_cuts_and_appends_its_files_to_the_uninterrupted_ones() {
+    let dir = common::scratch("wall");
+    let (whole, early) = (dir.join("whole"), dir.join("early"));
+    let wall = |end: &'static str| ["--set", "wall.kind=\"rigid\"", "--checkpoint-every", "10", "--set", end];
+    run(&wall("time.end=1"), &whole);
+    run(&wall("time.end=0.5"), &early);
+    let names = ["results.csv", "events.csv", "impacts.csv"];
+    let uninterrupted = names.map(|name| read(whole.join(name)));
+    // the files of the whole run reach past the checkpoint of the early one, as those of a run
+    // killed after its checkpoint at 0.5 s do: the second impact's events (about 0.72 s) among them
+    let events = String::from_utf8(uninterrupted[1].clone()).unwrap();
+    let after: Vec<&str> = events
+        .lines()
+        .skip(1)
+        .filter(|l| l.split(',').next().unwrap().parse::<f64>().unwrap() > 0.5)
+        .collect();
+    assert!(!after.is_empty(), "no event after 0.5 s:\n{events}");
+    std::fs::copy(early.join("checkpoint.snap"), whole.join("checkpoint.snap")).unwrap();
+    for folder in [&whole, &early] {
+        let o = restart(&["--set", "time.end=1"], folder);
+        assert!(o.status.success(), "restart: {}", String::from_utf8_lossy(&o.stderr));
+        for (name, bytes) in names.iter().zip(&uninterrupted) {
+            assert!(
+                read(folder.join(name)) == *bytes,
+                "{}: {name} differs from the uninterrupted run's",
+                folder.display()
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

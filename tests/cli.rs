@@ -396,7 +396,9 @@ fn bench_ngsolve_checks_its_inputs_before_timing_anything() {
 /// θ of the NGSolve reference `tests/data/NAME` (see `tests/data/README.md`) as `(t, θ)`.
 fn ngsolve_theta(name: &str) -> Vec<(f64, f64)> {
     let path = common::root().join("tests/data").join(name);
-    let (names, rows) = pendulum_fem::run::csv::read_numeric_csv(&path).unwrap();
+    let (names, rows) = pendulum_fem::store::Table::read(&path)
+        .map(|t| (t.names, t.rows))
+        .unwrap();
     assert_eq!(names[..2], ["t_s", "theta_rad"]);
     rows.into_iter().map(|r| (r[0], r[1])).collect()
 }
@@ -429,7 +431,9 @@ fn the_tutorials_exact_reproduction_runs_through_the_cli_with_the_watchdog_on_an
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", stderr(&out));
-    let (names, rows) = pendulum_fem::run::csv::read_numeric_csv(&dir.join("results.csv")).unwrap();
+    let (names, rows) = pendulum_fem::store::Table::read(&dir.join("results.csv"))
+        .map(|t| (t.names, t.rows))
+        .unwrap();
     let (t, theta) = (
         names.iter().position(|c| c == "time_s").unwrap(),
         names.iter().position(|c| c == "theta_rad").unwrap(),

@@ -70,7 +70,11 @@ fn our_own_msh_reads_back_as_the_same_mesh_and_the_same_motion_bit_for_bit() {
     generated.time.end = 0.3;
     quiet_run(generated, dir.join("generated"));
     quiet_run(from_file, dir.join("from-file"));
-    let read = |name: &str| pendulum_fem::run::csv::read_numeric_csv(&dir.join(name).join("results.csv")).unwrap();
+    let read = |name: &str| {
+        pendulum_fem::store::Table::read(&dir.join(name).join("results.csv"))
+            .map(|t| (t.names, t.rows))
+            .unwrap()
+    };
     let ((names, a), (_, b)) = (read("generated"), read("from-file"));
     assert_eq!(a.len(), 31);
     let strain = names.iter().position(|n| n == "strain_J").unwrap();

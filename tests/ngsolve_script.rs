@@ -5,7 +5,7 @@
 mod common;
 use common::tools;
 
-use pendulum_fem::run::csv::read_numeric_csv;
+use pendulum_fem::store::Table;
 
 /// θ and Newton iterations per step of the script run with `args`.
 fn run_script(args: &[&str], tag: &str) -> Vec<(f64, f64, f64)> {
@@ -19,14 +19,16 @@ fn run_script(args: &[&str], tag: &str) -> Vec<(f64, f64, f64)> {
         .output()
         .expect("python3 runs");
     assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
-    let (names, rows) = read_numeric_csv(&out).unwrap();
+    let (names, rows) = Table::read(&out).map(|t| (t.names, t.rows)).unwrap();
     assert_eq!(names, ["t_s", "theta_rad", "newton_iterations"]);
     let _ = std::fs::remove_dir_all(&dir);
     rows.into_iter().map(|r| (r[0], r[1], r[2])).collect()
 }
 
 fn reference(name: &str) -> Vec<(f64, f64, f64)> {
-    let (_, rows) = read_numeric_csv(&common::root().join("tests/data").join(name)).unwrap();
+    let (_, rows) = Table::read(&common::root().join("tests/data").join(name))
+        .map(|t| (t.names, t.rows))
+        .unwrap();
     rows.into_iter().map(|r| (r[0], r[1], r[2])).collect()
 }
 

@@ -109,22 +109,6 @@ fn frames_that_do_not_match_the_mesh_are_refused_naming_the_field() {
     );
 }
 
-#[test]
-fn plots_without_results_csv_fail_naming_the_file_after_writing_the_rest() {
-    let dir = common::scratch("nocsv");
-    let mesh = plate_mesh(1, 2);
-    let output = Output {
-        animation: false,
-        paraview: false,
-        viewer: false,
-        ..all_outputs()
-    };
-    let mut w = FrameWriters::new(&dir, &mesh, &output, None).unwrap();
-    w.frame(&synthetic_frame(&mesh, 0, 0.01).frame()).unwrap();
-    let err = w.finish().unwrap_err().to_string();
-    assert!(err.contains("results.csv"), "{err}");
-}
-
 /// `(timestep, file)` of every DataSet in a .pvd.
 fn pvd_entries(path: &Path) -> Vec<(f64, String)> {
     let text = std::fs::read_to_string(path).unwrap();
@@ -366,14 +350,13 @@ fn paraview_and_pictures_thin_separately_and_both_end_on_the_last_step() {
     };
     let dt = 0.01;
     let steps = 22;
-    write_results_csv(&dir, steps, dt);
     let mut w = FrameWriters::new(&dir, &mesh, &output, None).unwrap();
     let frames: Vec<_> = (0..=steps).map(|s| synthetic_frame(&mesh, s, dt)).collect();
     for f in &frames {
         w.frame(&f.frame()).unwrap();
     }
     w.last_frame(&frames[steps].frame()).unwrap();
-    w.finish().unwrap();
+    w.finish(&synthetic_history(steps, dt)).unwrap();
     let written: Vec<String> = pvd_entries(&dir.join("pendulum.pvd"))
         .into_iter()
         .map(|(_, f)| f)
@@ -421,7 +404,7 @@ fn flags_off_write_no_files() {
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into())
         .collect();
-    assert_eq!(names, vec!["results.csv".to_string()], "only the solver's own file");
+    assert!(names.is_empty(), "{names:?}");
 }
 
 #[test]
@@ -526,13 +509,12 @@ fn explicit_new_or_empty_folder_is_used_as_is() {
 #[test]
 fn hundred_frames_of_a_1200_triangle_mesh_are_written_quickly() {
     use pendulum_fem::render::anim::{write_gif, AnimField, KeptFrame, KeptFrames, Scene};
-    use pendulum_fem::render::plot::{write_energy_png, write_theta_png, History};
+    use pendulum_fem::render::plot::{write_energy_png, write_theta_png};
     use pendulum_fem::render::viewer::write_viewer;
     let dir = common::scratch("timing");
     let mesh = plate_mesh(4, 150);
     assert_eq!(mesh.triangles.len(), 1200);
     let steps = 99;
-    write_results_csv(&dir, steps, 0.01);
     let data: Vec<FrameData> = (0..=steps).map(|s| synthetic_frame(&mesh, s, 0.01)).collect();
     let clock = Instant::now();
     let mut kept = KeptFrames::new(200);
@@ -554,7 +536,7 @@ fn hundred_frames_of_a_1200_triangle_mesh_are_written_quickly() {
     write_gif(&dir.join("von_mises.gif"), &mesh, &frames, AnimField::VonMises, &scene).unwrap();
     let t_gif = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
-    let history = History::read_csv(&dir.join("results.csv")).unwrap();
+    let history = synthetic_history(steps, 0.01);
     write_theta_png(&dir.join("theta.png"), &history).unwrap();
     write_energy_png(&dir.join("energy.png"), &history).unwrap();
     let t_plot = clock.elapsed().as_secs_f64();

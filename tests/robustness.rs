@@ -45,7 +45,8 @@ use std::sync::{Arc, Mutex};
 
 use pendulum_fem::commands::run::{run, RunEnd, RunOptions, RunSummary};
 use pendulum_fem::render::plot::History;
-use pendulum_fem::run::csv::read_numeric_csv;
+use pendulum_fem::run::rows::{read_events, read_records};
+use pendulum_fem::store::Table;
 use pendulum_fem::Config;
 
 /// Cases run by `cargo test` (without `ROBUST_CASES`).
@@ -323,7 +324,9 @@ fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured,
             summary.steps, summary.cutbacks
         ));
     }
-    let (names, rows) = read_numeric_csv(&out.join("results.csv")).map_err(|e| e.to_string())?;
+    let (names, rows) = Table::read(&out.join("results.csv"))
+        .map(|t| (t.names, t.rows))
+        .map_err(|e| e.to_string())?;
     if let Some((i, _)) = rows.iter().enumerate().find(|(_, r)| r.iter().any(|x| x.is_nan())) {
         return Err(format!("NaN in results.csv row {i}"));
     }
@@ -556,10 +559,12 @@ fn after_a_blow_the_ringing_of_a_soft_head_converges_in_a_few_iterations_per_ste
     .unwrap();
     assert_eq!(summary.cutbacks, 0);
     assert!(summary.energy_error <= ENERGY_BAR, "{}", summary.energy_error);
-    let mut history = History::read_csv(&out.join("results.csv")).unwrap();
-    history.read_impacts(&out.join("events.csv")).unwrap();
+    let mut history = History::of_records(&read_records(&out.join("results.csv")).unwrap());
+    history.set_impacts(&read_events(&out.join("events.csv")).unwrap());
     let end = history.impacts.first().expect("an impact").1;
-    let (names, rows) = read_numeric_csv(&out.join("results.csv")).unwrap();
+    let (names, rows) = Table::read(&out.join("results.csv"))
+        .map(|t| (t.names, t.rows))
+        .unwrap();
     let (t, its) = (
         names.iter().position(|c| c == "time_s").unwrap(),
         names.iter().position(|c| c == "newton_iterations").unwrap(),

@@ -8,8 +8,8 @@ use common::Extremes;
 use std::path::PathBuf;
 
 use pendulum_fem::commands::run::{run, EnergyAudit, RunOptions, RunSummary};
-use pendulum_fem::run::csv::read_numeric_csv;
 use pendulum_fem::simulation::Model;
+use pendulum_fem::store::Table;
 use pendulum_fem::{mesh, Config};
 
 fn out_dir(name: &str) -> PathBuf {
@@ -41,7 +41,9 @@ fn run_into(name: &str, config: Config) -> (Result<RunSummary, pendulum_fem::Err
 /// scale is the available energy, the initial kinetic energy plus the weight times the centroid's
 /// possible height change `m g (d + |h₀|)` plus the largest |W|, at least the floor.
 fn energy_error_from_csv(dir: &std::path::Path, cfg: &Config) -> (f64, f64) {
-    let (names, rows) = read_numeric_csv(&dir.join("results.csv")).unwrap();
+    let (names, rows) = Table::read(&dir.join("results.csv"))
+        .map(|t| (t.names, t.rows))
+        .unwrap();
     let col = |n: &str| names.iter().position(|c| c == n).unwrap();
     let (k, e, w) = (col("kinetic_J"), col("total_J"), col("torque_work_J"));
     let model = Model::new(cfg, mesh::generate(cfg).unwrap()).unwrap();
@@ -230,14 +232,18 @@ fn a_run_to_an_off_grid_end_lands_on_it_and_says_so() {
     assert_eq!(summary.steps, 2);
     assert_eq!(summary.time_reached, 0.015, "exactly time.end");
     assert!((summary.last_step.unwrap() - 0.005).abs() < 1e-15);
-    let (_, rows) = read_numeric_csv(&dir.join("results.csv")).unwrap();
+    let (_, rows) = Table::read(&dir.join("results.csv"))
+        .map(|t| (t.names, t.rows))
+        .unwrap();
     let times: Vec<f64> = rows.iter().map(|r| r[0]).collect();
     assert_eq!(times, [0.0, 0.01, 0.015]);
     // the same instant with dt = 0.005 throughout: the two differ by the integrator's
     // second-order error, below 5e-6 rad; a step of the wrong length would be above it
     let (fine, dir_fine) = run_into("off-grid-fine", config(&["time.end=0.015", "time.dt=0.005"]));
     assert_eq!(fine.unwrap().last_step, None);
-    let (_, fine_rows) = read_numeric_csv(&dir_fine.join("results.csv")).unwrap();
+    let (_, fine_rows) = Table::read(&dir_fine.join("results.csv"))
+        .map(|t| (t.names, t.rows))
+        .unwrap();
     let (a, b) = (rows.last().unwrap()[1], fine_rows.last().unwrap()[1]);
     assert!((a - b).abs() < 5e-6, "theta {a} vs {b}");
 }

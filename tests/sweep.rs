@@ -63,7 +63,9 @@ fn number(header: &[String], row: &[String], name: &str) -> f64 {
 /// Metrics recomputed from a run's `results.csv` and its configuration by their definitions:
 /// `(final time, steps, Newton iterations, θ min °, θ max °, period, von Mises max, energy error)`.
 fn metrics_from_csv(run: &Path, cfg: &Config) -> [Option<f64>; 8] {
-    let (names, rows) = pendulum_fem::run::csv::read_numeric_csv(&run.join("results.csv")).unwrap();
+    let (names, rows) = pendulum_fem::store::Table::read(&run.join("results.csv"))
+        .map(|t| (t.names, t.rows))
+        .unwrap();
     let col = |n: &str| names.iter().position(|c| c == n).unwrap();
     let model = Model::new(cfg, mesh::generate(cfg).unwrap()).unwrap();
     let mut audit = EnergyAudit::of(&model);

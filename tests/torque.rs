@@ -548,7 +548,9 @@ fn cli_run(name: &str, sets: &[String]) -> (Vec<String>, Vec<Vec<f64>>) {
     }
     let o = cmd.output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    pendulum_fem::run::csv::read_numeric_csv(&out.join("results.csv")).unwrap()
+    pendulum_fem::store::Table::read(&out.join("results.csv"))
+        .map(|t| (t.names, t.rows))
+        .unwrap()
 }
 
 fn column(names: &[String], name: &str) -> usize {

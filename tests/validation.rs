@@ -14,7 +14,7 @@ use common::Extremes;
 
 use pendulum_fem::config::{InitialAcceleration, InitialElastic, Scheme};
 use pendulum_fem::post::PeriodEstimator;
-use pendulum_fem::run::csv::read_numeric_csv;
+use pendulum_fem::store::Table;
 use pendulum_fem::Config;
 
 use common::exact::{MASS as EXACT_MASS, PERIOD_20_DEG as EXACT_PERIOD_20_DEG};
@@ -23,7 +23,7 @@ use common::simulate;
 
 fn reference(name: &str) -> Vec<(f64, f64, f64)> {
     let path = common::root().join("tests/data").join(name);
-    let (names, rows) = read_numeric_csv(&path).unwrap();
+    let (names, rows) = Table::read(&path).map(|t| (t.names, t.rows)).unwrap();
     assert_eq!(names, ["t_s", "theta_rad", "newton_iterations"]);
     rows.into_iter().map(|r| (r[0], r[1], r[2])).collect()
 }

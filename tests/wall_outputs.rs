@@ -17,6 +17,7 @@ use pendulum_fem::commands::run::{run as run_job, RunOptions, RunSummary};
 use pendulum_fem::config::WallKind;
 use pendulum_fem::render::anim::{WALL_FILL, WALL_HATCH};
 use pendulum_fem::render::plot::{History, IMPACT_RGB};
+use pendulum_fem::run::rows::{read_events, read_records};
 use pendulum_fem::Config;
 
 /// The run driver's options for `config` into the folder `dir`, quiet.
@@ -71,8 +72,8 @@ fn plain_run() -> &'static Path {
 
 /// The `(start, end)` of the impacts in the run's `events.csv`.
 fn impacts(dir: &Path) -> Vec<(f64, f64)> {
-    let mut h = History::read_csv(&dir.join("results.csv")).unwrap();
-    h.read_impacts(&dir.join("events.csv")).unwrap();
+    let mut h = History::of_records(&read_records(&dir.join("results.csv")).unwrap());
+    h.set_impacts(&read_events(&dir.join("events.csv")).unwrap());
     h.impacts
 }
 
@@ -145,7 +146,7 @@ fn plots_without_a_wall_have_no_impact_marks_and_no_contact_curve() {
         let target = [IMPACT_RGB.0, IMPACT_RGB.1, IMPACT_RGB.2];
         assert_eq!(px.iter().filter(|p| **p == target).count(), 0, "{name}");
     }
-    let h = History::read_csv(&dir.join("results.csv")).unwrap();
+    let h = History::of_records(&read_records(&dir.join("results.csv")).unwrap());
     assert!(!h.has_wall());
     assert_eq!(h.energy_curves().len(), 3);
 }
@@ -153,8 +154,8 @@ fn plots_without_a_wall_have_no_impact_marks_and_no_contact_curve() {
 #[test]
 fn energy_plot_of_a_wall_run_has_the_contact_energy_rising_during_each_impact() {
     let dir = wall_run();
-    let mut h = History::read_csv(&dir.join("results.csv")).unwrap();
-    h.read_impacts(&dir.join("events.csv")).unwrap();
+    let mut h = History::of_records(&read_records(&dir.join("results.csv")).unwrap());
+    h.set_impacts(&read_events(&dir.join("events.csv")).unwrap());
     assert!(h.has_wall());
     let curves = h.energy_curves();
     let (name, contact) = curves.last().unwrap();
@@ -543,6 +544,61 @@ fn the_cli_summary_of_a_wall_run_prints_impacts_and_no_zero_crossing_period() {
 }
 
 #[test]
+fn an_observer_takes_the_rows_of_results_csv_and_impacts_csv_in_time_order() {
+    use pendulum_fem::run::driver::{Attach, RunObserver};
+    use pendulum_fem::run::rows::csv_values;
+    use pendulum_fem::simulation::{Simulation, StepRecord};
+    use std::sync::{Arc, Mutex};
+    /// The values of the records an observer took, in the order it took them.
+    struct Taken(Arc<Mutex<Vec<Vec<f64>>>>);
+    impl RunObserver for Taken {
+        fn record(&mut self, _: &mut Simulation, r: &StepRecord, _: bool) -> Result<(), pendulum_fem::Error> {
+            self.0.lock().unwrap().push(csv_values(r));
+            Ok(())
+        }
+        fn substeps(&mut self, records: &[StepRecord]) -> Result<(), pendulum_fem::Error> {
+            self.0.lock().unwrap().extend(records.iter().map(csv_values));
+            Ok(())
+        }
+        fn finish(self: Box<Self>, _: &mut Simulation, _: &StepRecord) -> Result<Vec<PathBuf>, pendulum_fem::Error> {
+            Ok(Vec::new())
+        }
+    }
+    let dir = common::scratch("observed-impact");
+    let mut config = Config::default();
+    config.wall.kind = WallKind::Rigid;
+    config.time.end = 0.3;
+    let taken = Arc::new(Mutex::new(Vec::new()));
+    let to = Arc::clone(&taken);
+    let opts = RunOptions {
+        observers: vec![Attach::new(move |_| {
+            Ok(Some(Box::new(Taken(Arc::clone(&to))) as Box<dyn RunObserver>))
+        })],
+        ..options(config, &dir)
+    };
+    run_job(&opts).unwrap();
+    let rows = |name: &str| pendulum_fem::store::Table::read(&dir.join(name)).unwrap().rows;
+    let (results, impacts) = (rows("results.csv"), rows("impacts.csv"));
+    assert!(
+        impacts.len() >= 20,
+        "{} sub-step rows in the first impact",
+        impacts.len()
+    );
+    let mut files: Vec<Vec<f64>> = results.into_iter().chain(impacts).collect();
+    files.sort_by(|a, b| a[0].total_cmp(&b[0]));
+    let taken = taken.lock().unwrap();
+    assert!(
+        taken.windows(2).all(|w| w[0][0] < w[1][0]),
+        "the records come in time order"
+    );
+    assert!(
+        *taken == files,
+        "the observer took every row of both files, bit for bit"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn every_impact_is_resolved_in_impacts_csv_so_identical_impacts_look_identical() {
     let dir = wall_run();
     let head = |p: &Path| std::fs::read_to_string(p).unwrap().lines().next().unwrap().to_string();
@@ -552,7 +608,7 @@ fn every_impact_is_resolved_in_impacts_csv_so_identical_impacts_look_identical()
         head(&dir.join("results.csv")),
         "impacts.csv has the columns of results.csv"
     );
-    let h = History::read_csv(&sub).unwrap();
+    let h = History::of_records(&read_records(&sub).unwrap());
     let spans = impacts(dir);
     assert_eq!(spans.len(), 3, "{spans:?}");
     let mut peaks = Vec::new();
@@ -575,14 +631,6 @@ fn every_impact_is_resolved_in_impacts_csv_so_identical_impacts_look_identical()
     for p in &peaks {
         assert!((p - largest).abs() < 0.01 * largest, "peak contact energies {peaks:?}");
     }
-    // the plots read both files: the merged history is in time order and holds every row
-    let both = History::read_csvs(&[&dir.join("results.csv"), &sub]).unwrap();
-    let rows = History::read_csv(&dir.join("results.csv")).unwrap().time.len();
-    assert_eq!(both.time.len(), rows + h.time.len());
-    assert!(
-        both.time.windows(2).all(|w| w[0] <= w[1]),
-        "merged rows out of time order"
-    );
 }
 
 #[test]
@@ -659,7 +707,7 @@ fn a_head_swung_over_the_pivot_passes_behind_the_deformable_block_and_stops_wher
         message.contains("outside the model") && message.contains("come round the face's end"),
         "{message}"
     );
-    let history = History::read_csv(&dir.join("results.csv")).unwrap();
+    let history = History::of_records(&read_records(&dir.join("results.csv")).unwrap());
     let (t, theta) = (&history.time, &history.theta);
     // it passes the far side unhindered: θ rises through 3π/2 to the step before the error
     let last = *t.last().unwrap();
@@ -690,7 +738,7 @@ fn a_head_coming_round_the_blocks_face_end_in_a_step_that_succeeds_stops_before_
         message.contains("outside the model") && message.contains("over the step") && message.contains("come round"),
         "{message}"
     );
-    let history = History::read_csv(&dir.join("results.csv")).unwrap();
+    let history = History::of_records(&read_records(&dir.join("results.csv")).unwrap());
     let last = *history.time.last().unwrap();
     // the step before the one that came round is the last row, before the bogus bounce
     assert!((1.2..1.2801).contains(&last), "results up to {last} s");

@@ -265,13 +265,7 @@ fn prepare_dir(sweep: &Sweep, out: &Path, resume: bool, shared: bool) -> Result<
             std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
             // job-array tasks starting together all write it (the same text): each through a
             // temporary file of its own, renamed into place
-            let tmp = out.join(format!(".{CASES_CSV}.{}.partial", std::process::id()));
-            std::fs::write(&tmp, &text)
-                .and_then(|()| std::fs::rename(&tmp, &cases))
-                .map_err(|e| {
-                    let _ = std::fs::remove_file(&tmp);
-                    Error::io(&cases, e)
-                })
+            crate::store::write_bytes_atomically(&cases, text.as_bytes())
         }
         Err(e) => Err(Error::io(&cases, e)),
     }
@@ -424,7 +418,7 @@ fn write_rows(out: &Path, keys: &[String], rows: &[CaseRow]) -> Result<PathBuf, 
         text.push('\n');
     }
     let path = out.join(SUMMARY_CSV);
-    crate::run::files::write_atomically(&path, |w| w.write_all(text.as_bytes()))?;
+    crate::store::write_atomically(&path, |w| w.write_all(text.as_bytes()))?;
     Ok(path)
 }
 

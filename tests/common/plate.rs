@@ -1,6 +1,6 @@
 //! Fixtures of the output tests (`common::plate`): a hand-built six-node-triangle mesh of a
 //! rectangular plate hanging from the origin, synthetic frames (a rigid swing θ(t) = 0.35 cos(6.6 t)
-//! plus a small elastic field) and a synthetic `results.csv`.
+//! plus a small elastic field) and the synthetic history of their run.
 #![allow(dead_code)]
 
 use std::collections::HashMap;
@@ -8,7 +8,9 @@ use std::path::{Path, PathBuf};
 
 use pendulum_fem::config::Output;
 use pendulum_fem::mesh::{BoundaryEdge, Mesh};
+use pendulum_fem::render::plot::History;
 use pendulum_fem::render::Frame;
+use pendulum_fem::simulation::StepRecord;
 
 /// Plate width and length \[m\].
 pub const WIDTH: f64 = 0.03;
@@ -149,27 +151,35 @@ pub fn synthetic_frame(mesh: &Mesh, step: usize, dt: f64) -> FrameData {
     d
 }
 
-/// Writes a synthetic `results.csv` for `steps` steps of `dt` into `dir`.
-pub fn write_results_csv(dir: &Path, steps: usize, dt: f64) {
-    let mut s = String::from(
-        "time_s,theta_rad,omega_rad_s,alpha_rad_s2,kinetic_J,strain_J,gravity_J,total_J,hinge_fx_N,hinge_fy_N,\
-         von_mises_max_Pa,newton_iterations\n",
-    );
+/// The history of a synthetic run of `steps` steps of `dt` (the swing of the frames; its records'
+/// energies, as a run's `results.csv` would hold them).
+pub fn synthetic_history(steps: usize, dt: f64) -> History {
     let (m, lc, inertia, g) = (0.7, 0.15, 0.021, 9.81);
-    for k in 0..=steps {
-        let t = k as f64 * dt;
-        let th = theta(t);
-        let omega = -0.35 * 6.6 * (6.6 * t).sin();
-        let kinetic = 0.5 * inertia * omega * omega;
-        let gravity = -m * g * lc * th.cos();
-        let strain = 3e-7 * (1.0 + 0.5 * (13.2 * t).cos());
-        let total = kinetic + gravity + strain;
-        s.push_str(&format!(
-            "{t},{th},{omega},0,{kinetic},{strain},{gravity},{total},0.1,6.9,2.1e6,{}\n",
-            if k == 0 { 0 } else { 3 }
-        ));
-    }
-    std::fs::write(dir.join("results.csv"), s).unwrap();
+    let records: Vec<StepRecord> = (0..=steps)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let th = theta(t);
+            let omega = -0.35 * 6.6 * (6.6 * t).sin();
+            let kinetic = 0.5 * inertia * omega * omega;
+            let gravity = -m * g * lc * th.cos();
+            let strain = 3e-7 * (1.0 + 0.5 * (13.2 * t).cos());
+            StepRecord {
+                step: k,
+                time: t,
+                theta: th,
+                omega,
+                kinetic,
+                strain,
+                gravity,
+                total: kinetic + gravity + strain,
+                hinge_force: [0.1, 6.9],
+                von_mises_max: 2.1e6,
+                newton_iterations: if k == 0 { 0 } else { 3 },
+                ..Default::default()
+            }
+        })
+        .collect();
+    History::of_records(&records)
 }
 
 /// Output settings with every flag on.
@@ -180,13 +190,12 @@ pub fn all_outputs() -> Output {
     }
 }
 
-/// Runs the writers over `steps` synthetic steps (results.csv written first, as the solver does).
+/// Runs the writers over `steps` synthetic steps, with their history.
 pub fn run(dir: &Path, mesh: &Mesh, output: &Output, steps: usize, dt: f64) -> Vec<PathBuf> {
     use pendulum_fem::render::FrameWriters;
-    write_results_csv(dir, steps, dt);
     let mut w = FrameWriters::new(dir, mesh, output, None).unwrap();
     for step in 0..=steps {
         w.frame(&synthetic_frame(mesh, step, dt).frame()).unwrap();
     }
-    w.finish().unwrap()
+    w.finish(&synthetic_history(steps, dt)).unwrap()
 }

@@ -4,13 +4,13 @@
 
 use std::time::Instant;
 
-use pendulum_fem_core::{mesh, Config, Simulation};
+use pendulum_fem_core::{Config, Simulation};
 
 fn main() -> Result<(), pendulum_fem_core::Error> {
     let cfg = Config::default();
     let mut best = f64::INFINITY;
     for _ in 0..5 {
-        let mut sim = Simulation::from_config(&cfg, mesh::generate(&cfg)?)?;
+        let mut sim = Simulation::build(&cfg)?.simulation;
         let start = Instant::now();
         for _ in 0..100 {
             sim.step(0.01)?;

@@ -8,16 +8,17 @@
 //!   the CLI's keys. Dicts and keywords become the CLI's `--set key=value` overrides (each value
 //!   written as a TOML literal), so they are merged and checked by [`pendulum_fem_core::Config::load`]
 //!   exactly as on the command line.
-//! * **Stepping**: `step(dt)`, `step_to(t_end)` and `run(end, dt)` release the GIL; `run` returns
-//!   the columns of `results.csv` ([`pendulum_fem_run::rows::header`]: with a wall, the contact
-//!   columns too; [`pendulum_fem_run::rows::csv_values`]) as numpy arrays.
+//! * **Stepping**: `step(dt)`, `step_to(t_end)` and `run(end, dt)` release the GIL; `run` takes
+//!   the run driver's steps ([`pendulum_fem_run::driver::PlanSteps`]) and returns the columns of
+//!   `results.csv` ([`pendulum_fem_run::rows::header`]: with a wall, the contact columns too;
+//!   [`pendulum_fem_run::rows::csv_values`]) as numpy arrays.
 //! * **Wall**: `gap`, `contact_force`, `impacts`, `in_contact` and `events` (the rows of the CLI's
 //!   `events.csv`) read the stepper's wall ([`pendulum_fem_core::Simulation::gap`]).
 //! * **Torque input**: `tau` holds the pivot torque ([`pendulum_fem_core::Simulation::set_torque`]). A
 //!   model without a `[torque]` profile has no torque term (so that `Simulation()` is the CLI's
 //!   default run bit for bit); setting `tau` before the first step declares one (`torque.profile =
-//!   "constant"`, `amplitude = 0`) by rebuilding the model (its mesh generated again from the
-//!   configuration).
+//!   "constant"`, `amplitude = 0`) by rebuilding the simulation from the configuration
+//!   ([`pendulum_fem_core::Simulation::build`], as every simulation here is built).
 //! * **State**: `snapshot()`/`restore()` as bytes ([`pendulum_fem_core::Snapshot::to_bytes`]) and
 //!   pickling (the configuration as TOML and the snapshot).
 //! * **Errors**: the Rust message in a Python exception: `ValueError` for invalid input (a bad

@@ -7,9 +7,9 @@ use pyo3::exceptions::{PyRuntimeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList, PyString};
 
-use pendulum_fem_core::{mesh, Config, Error, Simulation, Snapshot};
+use pendulum_fem_core::{Config, Simulation, Snapshot};
+use pendulum_fem_run::driver::PlanSteps;
 use pendulum_fem_run::rows::{csv_values, EVENTS_HEADER};
-use pendulum_fem_run::StepPlan;
 
 use crate::errors::py_err;
 use crate::overrides::{config_toml, flatten, load_config};
@@ -17,20 +17,14 @@ use crate::overrides::{config_toml, flatten, load_config};
 /// How often `run` looks for Ctrl-C (in the main thread).
 const SIGNAL_CHECK: std::time::Duration = std::time::Duration::from_millis(50);
 
-/// Meshes and sets up a simulation of `cfg` (without the GIL); a mesh-size warning becomes a
-/// Python `UserWarning`.
+/// Meshes and sets up a simulation of `cfg` (without the GIL, [`Simulation::build`]); a mesh-size
+/// warning becomes a Python `UserWarning`.
 fn build(py: Python<'_>, cfg: &Config) -> PyResult<Simulation> {
-    let (sim, warning) = py
-        .detach(|| -> Result<_, Error> {
-            let mesh = mesh::generate(cfg)?;
-            let warning = mesh::max_size_warning(cfg, &mesh);
-            Ok((Simulation::from_config(cfg, mesh)?, warning))
-        })
-        .map_err(py_err)?;
-    if let Some(w) = warning {
+    let built = py.detach(|| Simulation::build(cfg)).map_err(py_err)?;
+    if let Some(w) = built.mesh_warning {
         user_warning(py, w)?;
     }
-    Ok(sim)
+    Ok(built.simulation)
 }
 
 /// Raises `text` as a Python `UserWarning`.
@@ -83,9 +77,7 @@ impl PySimulation {
         let config = self.config.with_torque_input();
         // the pendulum's mesh again (the model's mesh holds every body: a deformable wall's block
         // would be appended twice)
-        self.sim = py
-            .detach(|| Simulation::from_config(&config, mesh::generate(&config)?))
-            .map_err(py_err)?;
+        self.sim = py.detach(|| Simulation::build(&config)).map_err(py_err)?.simulation;
         self.config = config;
         Ok(())
     }
@@ -175,12 +167,8 @@ impl PySimulation {
                 "run: end = {end} s is before the current time {t0} s"
             )));
         }
-        let time = pendulum_fem_core::config::Time {
-            dt,
-            end: end - t0,
-            ..self.config.time.clone()
-        };
-        let plan = StepPlan::of(&time);
+        // the run driver's steps: of dt, a shortened last one landing on `end`
+        let steps = PlanSteps::from_now(&self.sim, dt, end);
         // Ctrl-C reaches the main thread only: there, look for it every SIGNAL_CHECK of wall time
         // (each look takes the GIL back for a moment); elsewhere never
         let threading = py.import("threading")?;
@@ -189,19 +177,28 @@ impl PySimulation {
             .is(&threading.call_method0("main_thread")?);
         let sim = &mut self.sim;
         let rows = py.detach(|| -> PyResult<Vec<Vec<f64>>> {
-            let mut rows = Vec::with_capacity(plan.steps() + 1);
-            let its = sim.last_newton_iterations();
-            rows.push(csv_values(&sim.record(its)));
+            let mut rows = Vec::with_capacity(steps.plan.steps() + 1);
+            let mut interrupt = None;
             let mut looked = std::time::Instant::now();
-            for i in 0..plan.steps() {
+            let stop = || {
                 if main_thread && looked.elapsed() >= SIGNAL_CHECK {
-                    Python::attach(|py| py.check_signals())?;
+                    interrupt = Python::attach(|py| py.check_signals()).err();
                     looked = std::time::Instant::now();
                 }
-                let its = if i < plan.full { sim.step(dt) } else { sim.step_to(end) };
-                let its = its.map_err(py_err)?;
-                rows.push(csv_values(&sim.record(its)));
+                interrupt.is_some()
+            };
+            let (_, walked) = steps.walk(
+                sim,
+                |_, record| {
+                    rows.push(csv_values(record));
+                    Ok(())
+                },
+                stop,
+            );
+            if let Some(e) = interrupt {
+                return Err(e);
             }
+            walked.map_err(py_err)?;
             Ok(rows)
         })?;
         self.warn(py)?;

@@ -34,9 +34,10 @@
 //! GIF frames index a fixed 256-colour palette directly (200 colour-map entries, greys, a red):
 //! no colour quantisation. Frames are rasterised and LZW-compressed in parallel (rayon), a chunk
 //! at a time, and written in order; every frame after the first stores only the rectangle that
-//! changed since the frame before (disposal "keep"), which more than halves the compression work
-//! (the time label sits above the pivot for that reason). Playback: the frame delay is the simulated time between kept frames, at least
-//! 20 ms (what browsers honour) and at most 0.5 s.
+//! changed since the frame before (disposal "keep"), so the unchanged rest of the picture is not
+//! compressed again (the time label sits above the pivot for that reason). Playback: the frame
+//! delay is the simulated time between kept frames, at least 20 ms (what browsers honour) and at
+//! most 0.5 s.
 
 mod encode;
 mod kept;

@@ -10,8 +10,8 @@
 use std::io::Write;
 use std::path::Path;
 
-use crate::write_atomically;
 use crate::{Error, Mesh};
+use pendulum_fem_core::store::write_atomically;
 
 /// Gmsh element type of the 3-node line.
 pub const GMSH_LINE3: u32 = 8;

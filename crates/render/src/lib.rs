@@ -10,7 +10,6 @@
 // The core's modules under the names the writers have always used (`crate::Mesh`, `crate::config`).
 pub use pendulum_fem_core::simulation::Frame;
 pub(crate) use pendulum_fem_core::{config, mesh, simulation, Config, Error, Mesh};
-pub use pendulum_fem_run::files::write_atomically;
 
 pub mod anim;
 mod font;

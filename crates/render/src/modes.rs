@@ -94,7 +94,7 @@ pub fn write_modes_pvd(dir: &Path, mesh: &Mesh, modes: &[ModeView<'_>]) -> Resul
         entries.push((m.number, format!("modes/{name}")));
     }
     let pvd = dir.join("modes.pvd");
-    crate::write_atomically(&pvd, |w| {
+    pendulum_fem_core::store::write_atomically(&pvd, |w| {
         writeln!(w, r#"<?xml version="1.0"?>"#)?;
         writeln!(
             w,

@@ -1,8 +1,10 @@
 //! The pictures and ParaView files of a run, as an observer of the run driver
 //! ([`pendulum_fem_run::RunObserver`]): the frames go to a writer thread of their own
 //! ([`FrameWriters`] on it: ParaView frames, the frames kept for the animations and the viewer),
-//! and at the run's end the animations, the viewer and the plots are written. [`attach`] is what
-//! the CLI puts in [`RunOptions::observers`](pendulum_fem_run::RunOptions::observers).
+//! the records (the rows of `results.csv` and `impacts.csv`, a restarted run's earlier ones
+//! included) go into the run's [`History`], and at the run's end the animations, the viewer and the
+//! plots are written. [`attach`] is what the CLI puts in
+//! [`RunOptions::observers`](pendulum_fem_run::RunOptions::observers).
 
 use std::path::PathBuf;
 
@@ -11,6 +13,7 @@ use pendulum_fem_core::{Config, Error, Mesh};
 use pendulum_fem_run::driver::{Attach, RunObserver, RunStart};
 use pendulum_fem_run::StepPlan;
 
+use crate::plot::History;
 use crate::writers::{FrameWriters, WallOutput};
 
 /// The observer that writes a run's pictures and ParaView files as `output.*` selects them.
@@ -18,12 +21,19 @@ pub fn attach() -> Attach {
     Attach::new(|start| Pictures::start(start).map(|p| Some(Box::new(p) as Box<dyn RunObserver>)))
 }
 
-/// A run's pictures: the frame writer thread, and whether frames are sent to it at all.
+/// A run's pictures: the frame writer thread, whether frames are sent to it at all, and the
+/// run's history.
 struct Pictures {
     writer: FrameWriter,
     /// Some frame output is on (ParaView, animations or viewer); the plots are drawn at the end
     /// either way.
     wants_frames: bool,
+    /// The records so far, for the plots and the viewer's θ curve (empty when neither is on).
+    history: History,
+    /// Whether the records go into the history.
+    wants_history: bool,
+    /// The contact events up to the last record taken (the rows `events.csv` has then).
+    events: usize,
 }
 
 impl Pictures {
@@ -48,17 +58,35 @@ impl Pictures {
             Some(wall) => writers.with_wall(wall)?,
             None => writers,
         };
+        let wants_history = o.plots || o.viewer;
         Ok(Self {
             writer: FrameWriter::start(writers),
             wants_frames: o.paraview || o.animation || o.viewer,
+            history: match wants_history {
+                true => History::of_records(start.earlier),
+                false => History::default(),
+            },
+            wants_history,
+            events: 0,
         })
     }
 }
 
 impl RunObserver for Pictures {
     fn record(&mut self, sim: &mut Simulation, record: &StepRecord, resumed: bool) -> Result<(), Error> {
+        if self.wants_history {
+            self.history.push(record);
+            self.events = sim.contact_events().len();
+        }
         if self.wants_frames && self.writer.wants(record.step) && !resumed {
             self.writer.send(sim.frame_data(record.theta), false)?;
+        }
+        Ok(())
+    }
+
+    fn substeps(&mut self, records: &[StepRecord]) -> Result<(), Error> {
+        if self.wants_history {
+            records.iter().for_each(|r| self.history.push(r));
         }
         Ok(())
     }
@@ -73,7 +101,9 @@ impl RunObserver for Pictures {
             true => self.writer.send(sim.frame_data(last.theta), true),
             false => Ok(()),
         };
-        let finished = self.writer.finish();
+        let events = sim.contact_events();
+        self.history.set_impacts(&events[..self.events.min(events.len())]);
+        let finished = self.writer.finish(&self.history);
         sent?;
         finished
     }
@@ -190,13 +220,14 @@ impl FrameWriter {
         }
     }
 
-    /// Waits for the queued frames, then writes the animations, the viewer and the plots.
-    fn finish(mut self) -> Result<Vec<PathBuf>, Error> {
+    /// Waits for the queued frames, then writes the animations, the viewer and the plots of
+    /// `history`.
+    fn finish(mut self, history: &History) -> Result<Vec<PathBuf>, Error> {
         drop(self.sender.take());
         let handle = self.handle.take().ok_or_else(|| self.join_error())?;
         let writers = handle
             .join()
             .map_err(|_| Error::Input("the frame writer thread panicked".into()))??;
-        writers.finish()
+        writers.finish(history)
     }
 }

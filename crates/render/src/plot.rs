@@ -1,5 +1,6 @@
-//! Time-history plots, read back from the run's `results.csv` at the end of a run (nothing is held
-//! in memory during it):
+//! Time-history plots of a run's [`History`], the values of its `results.csv` and `impacts.csv`
+//! rows taken from the records as the run writes them (the pictures' observer,
+//! [`crate::pictures`]) and drawn at its end:
 //!
 //! - `theta.png`: the rigid-body angle proxy θ(t) in degrees, with dashed lines at ±θ_max, as in
 //!   the tutorial's matplotlib figure (θ_max = |θ(0)|, the release angle, like the tutorial's
@@ -13,13 +14,13 @@
 //!   gravitational and the total energy, the strain energy in a panel of its own, and with a wall
 //!   every impact on its own time scale.
 //!
-//! `results.csv` is read by column name (`time_s`, `theta_rad`, `kinetic_J`, `strain_J`,
-//! `gravity_J`, `total_J`, and `torque_Nm`, `torque_work_J` when present); more columns are ignored. Drawing uses plotters' bitmap backend into an
-//! RGB buffer with the shipped font (`font.rs`); the PNG is encoded with the `png` crate and
-//! written atomically.
+//! Drawing uses plotters' bitmap backend into an RGB buffer with the shipped font (`font.rs`); the
+//! PNG is encoded with the `png` crate and written atomically.
 
 use std::path::Path;
 
+use pendulum_fem_core::post::unsigned_zero;
+use pendulum_fem_core::simulation::{ContactEvent, ContactEventKind, StepRecord};
 use plotters::prelude::*;
 
 use super::font;
@@ -27,7 +28,8 @@ use crate::Error;
 
 pub mod energy;
 
-/// The columns of `results.csv` the plots use, one entry per row.
+/// The columns of `results.csv` (and `impacts.csv`) the plots use, one entry per record in time
+/// order, and the impacts.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct History {
     /// Time \[s\].
@@ -42,132 +44,64 @@ pub struct History {
     pub gravity: Vec<f64>,
     /// Total energy \[J\].
     pub total: Vec<f64>,
-    /// Applied torque \[N m\] (empty when the CSV has no `torque_Nm` column).
+    /// Applied torque \[N m\].
     pub torque: Vec<f64>,
-    /// Work of the torque \[J\] (empty when the CSV has no `torque_work_J` column).
+    /// Work of the torque \[J\].
     pub torque_work: Vec<f64>,
-    /// Contact energy \[J\], part of the total (empty when the CSV has no `contact_J` column:
-    /// a run without a wall).
+    /// Contact energy \[J\], part of the total (empty for a run without a wall).
     pub contact: Vec<f64>,
-    /// The impacts, `(start, end)` \[s\], from the run's `events.csv` (see
-    /// [`History::read_impacts`]); an impact still going on at the end of the run ends at the
+    /// The impacts, `(start, end)` \[s\], from the run's contact events, the rows of `events.csv`
+    /// (see [`History::set_impacts`]); an impact still going on at the end of the run ends at the
     /// last time.
     pub impacts: Vec<(f64, f64)>,
 }
 
 impl History {
-    /// Reads the columns by name from a `results.csv`; errors name the file and line.
-    pub fn read_csv(path: &Path) -> Result<Self, Error> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        Self::parse_csv(&text).map_err(|m| Error::Input(format!("{}: {m}", path.display())))
+    /// The history of `records` (rows of `results.csv` and `impacts.csv`, in time order).
+    pub fn of_records<'a>(records: impl IntoIterator<Item = &'a StepRecord>) -> Self {
+        let mut h = Self::default();
+        records.into_iter().for_each(|r| h.push(r));
+        h
     }
 
-    /// Reads several CSV files of the same header (`results.csv` and `impacts.csv`) as one
-    /// history, the rows in time order.
-    pub fn read_csvs(paths: &[&Path]) -> Result<Self, Error> {
-        let mut header: Option<String> = None;
-        let mut rows: Vec<(f64, String)> = Vec::new();
-        for path in paths {
-            let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-            let mut lines = text.lines().filter(|l| !l.trim().is_empty() && !l.starts_with('#'));
-            let first = lines.next().unwrap_or_default();
-            match &header {
-                Some(h) if h != first => {
-                    return Err(Error::Input(format!(
-                        "{}: the header differs from that of {}",
-                        path.display(),
-                        paths[0].display()
-                    )))
-                }
-                Some(_) => {}
-                None => header = Some(first.to_string()),
-            }
-            for line in lines {
-                // an unreadable time sorts first; parse_csv then names the line
-                let t = line
-                    .split(',')
-                    .next()
-                    .and_then(|c| c.trim().parse().ok())
-                    .unwrap_or(f64::NEG_INFINITY);
-                rows.push((t, line.to_string()));
+    /// Takes the next record (in time order) with the values of its row in `results.csv` (a
+    /// negative zero as `0`, [`unsigned_zero`]); its contact energy when it has one (a run with a
+    /// wall).
+    pub fn push(&mut self, r: &StepRecord) {
+        let z = unsigned_zero;
+        self.time.push(z(r.time));
+        self.theta.push(z(r.theta));
+        self.kinetic.push(z(r.kinetic));
+        self.strain.push(z(r.strain));
+        self.gravity.push(z(r.gravity));
+        self.total.push(z(r.total));
+        self.torque.push(z(r.torque));
+        self.torque_work.push(z(r.torque_work));
+        if let Some(c) = &r.contact {
+            self.contact.push(z(c.energy));
+        }
+    }
+
+    /// Sets [`History::impacts`] from the contact events (in the order they happened): each start
+    /// opens an impact, the next end closes it; an impact without its end ends at the history's
+    /// last time.
+    pub fn set_impacts(&mut self, events: &[ContactEvent]) {
+        let mut spans = Vec::new();
+        let mut open = None;
+        for e in events {
+            match e.kind {
+                ContactEventKind::Start => open = Some(e.time),
+                ContactEventKind::End => spans.push((open.take().unwrap_or(e.time), e.time)),
             }
         }
-        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut text = header.unwrap_or_default();
-        for (_, line) in rows {
-            text.push('\n');
-            text.push_str(&line);
+        if let Some(start) = open {
+            let end = self.time.last().copied().unwrap_or(0.0);
+            spans.push((start, end.max(start)));
         }
-        Self::parse_csv(&text).map_err(|m| Error::Input(format!("{} and the others: {m}", paths[0].display())))
+        self.impacts = spans;
     }
 
-    /// Parses CSV text with a header line (see [`History::read_csv`]).
-    pub fn parse_csv(text: &str) -> Result<Self, String> {
-        let mut lines = text
-            .lines()
-            .enumerate()
-            .filter(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
-        let (_, header) = lines.next().ok_or("empty file, expected a header line")?;
-        let names: Vec<&str> = header.split(',').map(str::trim).collect();
-        let col = |name: &str| {
-            names
-                .iter()
-                .position(|n| *n == name)
-                .ok_or_else(|| format!("line 1: no column `{name}` in the header"))
-        };
-        let idx = [
-            col("time_s")?,
-            col("theta_rad")?,
-            col("kinetic_J")?,
-            col("strain_J")?,
-            col("gravity_J")?,
-            col("total_J")?,
-        ];
-        let optional = [col("torque_Nm").ok(), col("torque_work_J").ok(), col("contact_J").ok()];
-        let mut h = History::default();
-        for (i, line) in lines {
-            let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-            let mut v = [0.0; 9];
-            let present = idx.iter().copied().map(Some).chain(optional);
-            for (k, c) in present.enumerate() {
-                let Some(c) = c else { continue };
-                let cell = cells
-                    .get(c)
-                    .ok_or_else(|| format!("line {}: {} cells, expected at least {}", i + 1, cells.len(), c + 1))?;
-                v[k] = cell
-                    .parse()
-                    .map_err(|_| format!("line {}: `{cell}` in column `{}` is not a number", i + 1, names[c]))?;
-            }
-            h.time.push(v[0]);
-            h.theta.push(v[1]);
-            h.kinetic.push(v[2]);
-            h.strain.push(v[3]);
-            h.gravity.push(v[4]);
-            h.total.push(v[5]);
-            if optional[0].is_some() {
-                h.torque.push(v[6]);
-            }
-            if optional[1].is_some() {
-                h.torque_work.push(v[7]);
-            }
-            if optional[2].is_some() {
-                h.contact.push(v[8]);
-            }
-        }
-        Ok(h)
-    }
-
-    /// Reads the impacts from an `events.csv` (columns `time_s` and `event`, events
-    /// `impact_start` and `impact_end`) into [`History::impacts`]; an impact without its end
-    /// ends at the history's last time.
-    pub fn read_impacts(&mut self, path: &Path) -> Result<(), Error> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        self.impacts = parse_impacts(&text, self.time.last().copied().unwrap_or(0.0))
-            .map_err(|m| Error::Input(format!("{}: {m}", path.display())))?;
-        Ok(())
-    }
-
-    /// Whether the run had a wall (the CSV has the contact columns).
+    /// Whether the run had a wall (its records have the contact columns).
     pub fn has_wall(&self) -> bool {
         !self.contact.is_empty()
     }
@@ -198,40 +132,6 @@ impl History {
         }
         curves
     }
-}
-
-/// The `(start, end)` of every impact in `events.csv` text; `end_time` closes an open one.
-fn parse_impacts(text: &str, end_time: f64) -> Result<Vec<(f64, f64)>, String> {
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
-    let (_, header) = lines.next().ok_or("empty file, expected a header line")?;
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let col = |name: &str| {
-        names
-            .iter()
-            .position(|n| *n == name)
-            .ok_or_else(|| format!("line 1: no column `{name}` in the header"))
-    };
-    let (t, e) = (col("time_s")?, col("event")?);
-    let mut spans = Vec::new();
-    let mut open = None;
-    for (i, line) in lines {
-        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-        let (Some(time), Some(event)) = (cells.get(t), cells.get(e)) else {
-            return Err(format!("line {}: {} cells", i + 1, cells.len()));
-        };
-        let time: f64 = time
-            .parse()
-            .map_err(|_| format!("line {}: `{time}` is not a time", i + 1))?;
-        match *event {
-            "impact_start" => open = Some(time),
-            "impact_end" => spans.push((open.take().unwrap_or(time), time)),
-            _ => {}
-        }
-    }
-    if let Some(start) = open {
-        spans.push((start, end_time.max(start)));
-    }
-    Ok(spans)
 }
 
 /// Colour of the impact marks in the plots.
@@ -303,7 +203,7 @@ pub(crate) fn render_png(
         draw(&root).map_err(|e| plot_error(path, e))?;
         root.present().map_err(|e| plot_error(path, e))?;
     }
-    crate::write_atomically(path, |w| {
+    pendulum_fem_core::store::write_atomically(path, |w| {
         let mut enc = png::Encoder::new(w, size.0, size.1);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
@@ -524,7 +424,7 @@ mod tests {
         let curves = h.energy_curves();
         assert_eq!(curves.len(), 3, "no torque curve without a torque");
         let (lo, hi) = range_of(curves.iter().flat_map(|c| c.1.iter()));
-        // the kinetic energy spans at least 40 % of the panel (it was 5 % with −2 J in it)
+        // the kinetic energy spans at least 40 % of the panel
         assert!(0.12 / (hi - lo) > 0.4, "panel [{lo}, {hi}]");
         assert!(!h.has_torque());
         h.torque = vec![0.5; n + 1];
@@ -557,7 +457,7 @@ mod tests {
             (-0.1 - 1.01..-0.1).contains(&lo),
             "axis bottom {lo}: the data end at −0.1°"
         );
-        // 20° + 5 % padding + 30 % for the legend = 27.6°; with the −20° line it was 35.2°
+        // 20° + 5 % padding + 30 % for the legend = 27.6°; with a −20° line it would be 35.2°
         assert!(hi < 28.0, "axis top {hi}");
         // a torque or a spin: no lines at all
         assert!(theta_limits(&swing(2.0, -90.0), true).0.is_empty());
@@ -566,15 +466,46 @@ mod tests {
     }
 
     #[test]
-    fn csv_columns_are_found_by_name_and_bad_cells_name_the_line() {
-        let text = "time_s,theta_rad,omega_rad_s,alpha_rad_s2,kinetic_J,strain_J,gravity_J,total_J,extra\n\
-                    0,0.35,0,0,0,0,-1,-1,7\n0.01,0.34,0,0,0.1,1e-7,-1.1,-1,7\n";
-        let h = History::parse_csv(text).unwrap();
-        assert_eq!(h.time, vec![0.0, 0.01]);
-        assert_eq!(h.strain, vec![0.0, 1e-7]);
-        let err = History::parse_csv(&text.replace("0.34", "x")).unwrap_err();
-        assert!(err.contains("line 3"), "{err}");
-        let err = History::parse_csv("time_s,theta_rad\n").unwrap_err();
-        assert!(err.contains("kinetic_J"), "{err}");
+    fn a_history_holds_the_values_of_its_records_rows_and_the_impacts_of_their_events() {
+        use pendulum_fem_core::simulation::ContactRecord;
+        let record = |time: f64, energy| StepRecord {
+            time,
+            theta: -0.0,
+            kinetic: 0.5 * time,
+            torque: 0.25,
+            contact: Some(ContactRecord {
+                energy,
+                ..Default::default()
+            }),
+            ..Default::default()
+        };
+        let records = [record(0.0, 0.0), record(0.01, 0.002), record(0.02, 0.0)];
+        let mut h = History::of_records(&records);
+        assert_eq!(h.time, [0.0, 0.01, 0.02]);
+        assert_eq!(h.kinetic, [0.0, 0.005, 0.01]);
+        assert_eq!(h.contact, [0.0, 0.002, 0.0]);
+        assert!(
+            h.theta.iter().all(|t| t.is_sign_positive()),
+            "−0 as 0, as results.csv has it"
+        );
+        assert!(h.has_wall() && h.has_torque());
+        let event = |time, kind| ContactEvent {
+            time,
+            kind,
+            theta: 0.0,
+            omega: 0.0,
+            impulse: 0.0,
+            penetration: 0.0,
+            force: 0.0,
+        };
+        let (start, end) = (ContactEventKind::Start, ContactEventKind::End);
+        h.set_impacts(&[event(0.005, start), event(0.008, end), event(0.015, start)]);
+        assert_eq!(
+            h.impacts,
+            [(0.005, 0.008), (0.015, 0.02)],
+            "the open impact ends at the last time"
+        );
+        let plain = History::of_records(&[StepRecord::default()]);
+        assert!(!plain.has_wall() && plain.contact.is_empty());
     }
 }

@@ -22,11 +22,12 @@
 //!   `int16` pairs `(qx, qy)` per node, the drawn position being `pos_offset + pos_scale · q` \[m\]
 //!   (resolution: the picture size / 65534); `fields[k]` is base64 of little-endian `uint16` per
 //!   node, value `= q / 65535 · fields[k].max`. This keeps the file about 11 bytes per node and frame.
-//! - `theta_curve`: `{t, theta_deg}` from `results.csv` when present (at most 2000 points), else
-//!   from the kept frames; `theta_max_deg` for the dashed ±θ_max lines.
-//! - with a wall only: `wall` `{kind, face_x}` and `impacts` `[[start, end], …]` \[s\] (from
-//!   `events.csv`). The page draws the wall as a hatched band left of `wall_x` and the impacts as
-//!   shaded spans with a line at each start in the θ plot.
+//! - `theta_curve`: `{t, theta_deg}` from the run's history (the rows of `results.csv` and
+//!   `impacts.csv`) when it has two records or more (at most 2000 points), else from the kept
+//!   frames; `theta_max_deg` for the dashed ±θ_max lines.
+//! - with a wall only: `wall` `{kind, face_x}` and `impacts` `[[start, end], …]` \[s\] (the
+//!   history's, from the contact events of `events.csv`). The page draws the wall as a hatched
+//!   band left of `wall_x` and the impacts as shaded spans with a line at each start in the θ plot.
 //!
 //! Loading the page with `#selftest` appended runs a check in the page itself: it hashes the
 //! canvases, moves the slider and switches the field, and writes the verdict (`SELFTEST PASS` or
@@ -55,7 +56,7 @@ pub fn write_viewer(
     title: &str,
 ) -> Result<(), Error> {
     let html = viewer_html(mesh, frames, scene, history, title);
-    crate::write_atomically(path, |w| w.write_all(html.as_bytes()))
+    pendulum_fem_core::store::write_atomically(path, |w| w.write_all(html.as_bytes()))
 }
 
 /// The page as a string (see [`write_viewer`]).

@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 
 use super::vtu::{write_mesh_vtu, write_vtu, Cells, Grid, VTK_QUADRATIC_EDGE};
 use super::{Field, FieldData};
-use crate::write_atomically;
 use crate::{Error, Mesh};
+use pendulum_fem_core::store::write_atomically;
 
 /// Writes `blocks` (name, file relative to the `.vtm`) as a multiblock data set.
 pub fn write_vtm(path: &Path, blocks: &[(String, String)]) -> Result<(), Error> {

@@ -2,7 +2,7 @@
 //!
 //! The simulation calls [`FrameWriters::frame`] for every step (step 0 included), then
 //! [`FrameWriters::last_frame`] with the last state computed (however the run ended), and
-//! [`FrameWriters::finish`] once at the end, after `results.csv` is complete. The writers apply
+//! [`FrameWriters::finish`] once at the end, with the run's [`History`]. The writers apply
 //! the thinning themselves: a ParaView frame is written when `step % output.paraview_every == 0`
 //! (`output.every` when unset), the animations and the viewer are offered the steps with
 //! `step % output.every == 0`, and the last step goes to both whatever its number. They honour
@@ -13,22 +13,22 @@
 //! | `paraview`  | `pendulum.pvd`, `frames/step_NNNNN.vtu`            | as frames arrive   |
 //! | `animation` | `displacement.gif`, `von_mises.gif`                | in `finish`        |
 //! | `viewer`    | `viewer.html`                                      | in `finish`        |
-//! | `plots`     | `theta.png`, `energy.png` (from `results.csv`)     | in `finish`        |
+//! | `plots`     | `theta.png`, `energy.png` (from the history)       | in `finish`        |
 //!
 //! With a wall ([`FrameWriters::with_wall`]) the ParaView frames carry the contact pressure and
 //! the rigid wall is a block of its own (`wall.vtu`), the animations and the viewer draw the wall
-//! (a hatched band left of its face), and the plots mark the impacts listed in `events.csv`.
+//! (a hatched band left of its face), and the plots mark the impacts of the history (the contact
+//! events, the rows of `events.csv`).
 //!
-//! Call `finish` after `results.csv` is complete and flushed (the plots read it back). A flag that
-//! is off means its files are not written at all. The animations and the viewer share
+//! A flag that is off means its files are not written at all. The animations and the viewer share
 //! one bounded set of kept frames ([`KeptFrames`], at most `output.max_frames`), so memory does not
 //! grow with the length of the run.
 //!
 //! ```no_run
 //! # use pendulum_fem_core::{config::Config, Mesh};
-//! # use pendulum_fem_render::{Frame, FrameWriters};
+//! # use pendulum_fem_render::{plot::History, Frame, FrameWriters};
 //! # use pendulum_fem_run::prepare_output_dir;
-//! # fn demo(cfg: &Config, mesh: &Mesh, out: Option<&std::path::Path>, frames: &[Frame<'_>]) -> Result<(), pendulum_fem_core::Error> {
+//! # fn demo(cfg: &Config, mesh: &Mesh, out: Option<&std::path::Path>, frames: &[Frame<'_>], history: &History) -> Result<(), pendulum_fem_core::Error> {
 //! let dir = prepare_output_dir(&cfg.output.dir, out, false)?; // before any computing
 //! let mut writers = FrameWriters::new(&dir, mesh, &cfg.output, None)?;
 //! for frame in frames {
@@ -37,8 +37,7 @@
 //! if let Some(last) = frames.last() {
 //!     writers.last_frame(last)?; // however the run ended
 //! }
-//! // … finish results.csv …
-//! let written = writers.finish()?;
+//! let written = writers.finish(history)?; // the history of the run's records
 //! # Ok(()) }
 //! ```
 
@@ -121,7 +120,7 @@ impl FrameWriters {
     /// Adds the wall: the ParaView frames get the contact pressure and a rigid wall's block (see
     /// [`PvdWriter::set_wall`]); the pictures draw a rigid wall at its face (as `wall_x` of
     /// [`FrameWriters::new`] does; a deformable wall is a body of the mesh and drawn as such, see
-    /// [`FrameWriters::with_pendulum_nodes`]); the plots mark the impacts of `events.csv`.
+    /// [`FrameWriters::with_pendulum_nodes`]).
     pub fn with_wall(mut self, wall: WallOutput) -> Result<Self, Error> {
         if wall.rigid {
             self.wall_x = Some(wall.face_x);
@@ -232,28 +231,11 @@ impl FrameWriters {
         Ok(())
     }
 
-    /// Writes the end-of-run outputs and returns every path written during the run.
-    /// With `plots` on, `results.csv` must exist in the output folder.
-    pub fn finish(self) -> Result<Vec<PathBuf>, Error> {
+    /// Writes the end-of-run outputs and returns every path written during the run. `history` is
+    /// the run's (the plots are drawn from it; the viewer's θ curve comes from it when it holds two
+    /// records or more, else from the kept frames).
+    pub fn finish(self, history: &History) -> Result<Vec<PathBuf>, Error> {
         let mut paths = self.pvd.map(PvdWriter::into_paths).unwrap_or_default();
-        let csv = self.dir.join(names::RESULTS_CSV);
-        let events = self.dir.join(names::EVENTS_CSV);
-        let impacts = self.dir.join(names::IMPACTS_CSV);
-        // a run with a wall (contact columns in results.csv) marks its impacts from events.csv,
-        // and draws them with the records of their sub-steps (impacts.csv)
-        let history = (self.output.plots || self.output.viewer).then(|| {
-            let read = if impacts.is_file() {
-                History::read_csvs(&[&csv, &impacts])
-            } else {
-                History::read_csv(&csv)
-            };
-            read.and_then(|mut h| {
-                if h.has_wall() && events.is_file() {
-                    h.read_impacts(&events)?;
-                }
-                Ok(h)
-            })
-        });
         let frames = self.kept.map(KeptFrames::into_frames).unwrap_or_default();
         if !frames.is_empty() {
             let scene = Scene::new(&self.mesh.nodes, &frames, self.output.magnification, self.wall_x);
@@ -274,20 +256,17 @@ impl FrameWriters {
                     .file_name()
                     .map(|n| n.to_string_lossy().into_owned())
                     .unwrap_or_default();
-                // Without a readable results.csv the viewer's θ curve comes from the kept frames.
-                let h = history.as_ref().and_then(|r| r.as_ref().ok());
-                viewer::write_viewer(&path, &self.mesh, &frames, &scene, h, &format!("pendulum-fem: {run}"))?;
+                let title = format!("pendulum-fem: {run}");
+                viewer::write_viewer(&path, &self.mesh, &frames, &scene, Some(history), &title)?;
                 paths.push(path);
             }
         }
-        // Plots last: a missing results.csv is an error, but the pictures above are written anyway.
-        if let (true, Some(history)) = (self.output.plots, history) {
-            let h = history?;
+        if self.output.plots {
             let path = self.dir.join(names::THETA_PNG);
-            plot::write_theta_png(&path, &h)?;
+            plot::write_theta_png(&path, history)?;
             paths.push(path);
             let path = self.dir.join(names::ENERGY_PNG);
-            plot::write_energy_png(&path, &h)?;
+            plot::write_energy_png(&path, history)?;
             paths.push(path);
         }
         Ok(paths)

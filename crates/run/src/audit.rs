@@ -12,10 +12,9 @@ use pendulum_fem_core::Error;
 /// scale** is the energy the run has available: the initial kinetic energy, plus the weight times
 /// the largest change of the centroid's height that the swing allows ([`Model::potential_range`]),
 /// plus the largest |W| so far; never below the floor `10⁻³ m g₀ L` ([`Model::energy_floor`]), for
-/// a body that has nothing to move it. The scale is known from the first step on (only the torque's work can raise it), so
-/// the watchdog judges the first steps of a swing by what the swing has available, not by the
-/// little kinetic energy it has gained so far (the tutorial's zero start loses 1.2e-4 J in its
-/// first step, 3e-5 of its available 3.75 J).
+/// a body that has nothing to move it. The scale is known from the first step on (only the
+/// torque's work can raise it), so the watchdog judges the first steps of a swing by what the
+/// swing has available, not by the little kinetic energy it has gained so far.
 ///
 /// [`Model::potential_range`]: pendulum_fem_core::simulation::Model::potential_range
 /// [`Model::energy_floor`]: pendulum_fem_core::simulation::Model::energy_floor

@@ -8,18 +8,20 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
-use pendulum_fem_core::mesh;
+use pendulum_fem_core::config::{StepPlan, Time};
 use pendulum_fem_core::post::PeriodEstimator;
-use pendulum_fem_core::simulation::{ContactEvent, Simulation, StepRecord};
-use pendulum_fem_core::{Config, Error};
+use pendulum_fem_core::simulation::{Built, ContactEvent, Simulation, StepRecord};
+use pendulum_fem_core::{Config, Error, Snapshot};
 
 use crate::audit::EnergyAudit;
-use crate::checkpoint::{cut_rows_after, resume, write_checkpoint, write_checkpoint_config, CHECKPOINT_SNAP};
+use crate::checkpoint::{
+    events_until, impacts_until, read_checkpoint, resume, write_checkpoint, write_checkpoint_config, CHECKPOINT_SNAP,
+};
 use crate::csv::CsvWriter;
 use crate::impacts::ImpactSummary;
+use crate::outdir::names;
 use crate::prepare_output_dir;
-use crate::rows::{csv_values, write_events};
-use pendulum_fem_core::config::StepPlan;
+use crate::rows::{csv_values, event_row, EVENTS_HEADER};
 
 /// What a run's observers are made from, once its simulation is set up (and, for a restart,
 /// returned to its checkpoint).
@@ -33,16 +35,30 @@ pub struct RunStart<'a> {
     /// A restarted run: the `(step, time)` of every `results.csv` row up to and including the
     /// checkpoint's; empty for a fresh run.
     pub resumed: &'a [(usize, f64)],
+    /// A restarted run: the records its folder holds from before the checkpoint, the rows of
+    /// `results.csv` before the checkpoint's and those of `impacts.csv`, in time order (what
+    /// [`RunObserver::record`] and [`RunObserver::substeps`] took before the run was stopped);
+    /// empty for a fresh run.
+    pub earlier: &'a [StepRecord],
 }
 
 /// Something that watches a run beside its CSV files: the pictures and ParaView frames
 /// (`pendulum-fem-render`), the CLI's progress bar. The driver calls it in this order:
-/// [`RunObserver::record`] for every record, [`RunObserver::sync`] before each checkpoint, and
-/// [`RunObserver::finish`] once at the end, whether the run completed, was interrupted or failed.
+/// [`RunObserver::record`] for every record (the rows of `results.csv`), after each step's
+/// [`RunObserver::substeps`] (the rows it adds to `impacts.csv`), [`RunObserver::sync`] before each
+/// checkpoint, and [`RunObserver::finish`] once at the end, whether the run completed, was
+/// interrupted or failed. The records so come in time order.
 pub trait RunObserver {
     /// Takes the record of the latest step (step 0's first). `resumed`: the record is a restarted
     /// run's checkpoint, whose outputs its folder already holds.
     fn record(&mut self, sim: &mut Simulation, record: &StepRecord, resumed: bool) -> Result<(), Error>;
+
+    /// Takes the records of the sub-steps inside an impact that the step just taken wrote to
+    /// `impacts.csv` ([`Simulation::record_impacts`]), before that step's [`RunObserver::record`].
+    fn substeps(&mut self, records: &[StepRecord]) -> Result<(), Error> {
+        let _ = records;
+        Ok(())
+    }
 
     /// Everything observed so far is on disk (a checkpoint follows).
     fn sync(&mut self) -> Result<(), Error> {
@@ -173,45 +189,76 @@ pub struct RunSummary {
 ///
 /// **Restart** (`opts.restart`, the folder in `opts.out`): the run continues from the folder's
 /// [`CHECKPOINT_SNAP`] (made with the same configuration and mesh; `time.end` may be larger). The
-/// rows of `results.csv` after the checkpoint's step are dropped (they are computed again; the
-/// checkpoint's own row must equal the restored state's, bit for bit), the ParaView frames up to it
-/// stay in `pendulum.pvd`, and both are appended to, so that `results.csv` is byte for byte that
-/// of an uninterrupted run with the same steps. The animations and the viewer show the frames from
-/// the checkpoint on; the plots are drawn from the whole `results.csv`. A run finished on a
-/// shortened last step (`time.end` off the `time.dt` grid) continues from there with steps of
+/// snapshot is decoded and the model built once, and a snapshot of another model is refused before
+/// anything in the folder is touched. The rows of `results.csv` after the checkpoint's step are
+/// dropped (they are computed again; the checkpoint's own row must equal the restored state's, bit
+/// for bit), as are the rows of `impacts.csv` after its time and those of `events.csv` after its
+/// events; the ParaView frames up to it stay in `pendulum.pvd`, and all are appended to, so that
+/// the files are byte for byte those of an uninterrupted run with the same steps. The animations
+/// and the viewer show the frames from the checkpoint on; the plots show the whole run, the
+/// records before the checkpoint read back from `results.csv` and `impacts.csv`. A run finished on
+/// a shortened last step (`time.end` off the `time.dt` grid) continues from there with steps of
 /// `time.dt`, which an uninterrupted run would not have taken.
 pub fn run(opts: &RunOptions) -> Result<RunSummary, Error> {
-    let out_dir = if opts.restart {
-        let dir = opts
-            .out
-            .clone()
-            .ok_or_else(|| Error::Input("run --restart: name the folder of the run to continue".into()))?;
-        let snap = dir.join(CHECKPOINT_SNAP);
-        if !snap.is_file() {
-            return Err(Error::Input(format!(
-                "run --restart {}: no {CHECKPOINT_SNAP} there (a run writes it with --checkpoint-every N)",
-                dir.display()
-            )));
+    if !opts.restart {
+        let out_dir = prepare_output_dir(&opts.config.output.dir, opts.out.as_deref(), opts.force)?;
+        return run_with(opts, out_dir, |_, _| Ok(()));
+    }
+    let dir = opts
+        .out
+        .clone()
+        .ok_or_else(|| Error::Input("run --restart: name the folder of the run to continue".into()))?;
+    if !dir.join(CHECKPOINT_SNAP).is_file() {
+        return Err(Error::Input(format!(
+            "run --restart {}: no {CHECKPOINT_SNAP} there (a run writes it with --checkpoint-every N)",
+            dir.display()
+        )));
+    }
+    // refuse another model before anything in the folder is touched
+    let set_up = SetUp::of(opts, &dir)?;
+    run_set_up(opts, dir, Some(set_up), |_, _| Ok(()))
+}
+
+/// A run's simulation, built, and for a restart the checkpoint it continues from.
+struct SetUp {
+    /// The simulation at its initial state, with the time its mesh and set-up took.
+    built: Built,
+    /// The checkpoint of a restarted run, checked against the simulation's model.
+    checkpoint: Option<Snapshot>,
+    /// When the set-up began (the run's total time counts from there).
+    began: Instant,
+}
+
+impl SetUp {
+    /// Builds the simulation of `opts.config` and, for a restart, reads the checkpoint in `dir`
+    /// and checks that it was made for this model.
+    fn of(opts: &RunOptions, dir: &Path) -> Result<Self, Error> {
+        let began = Instant::now();
+        let checkpoint = match opts.restart {
+            true => Some(read_checkpoint(dir)?),
+            false => None,
+        };
+        #[cfg(test)]
+        tests::SET_UPS.with(|n| n.set(n.get() + 1));
+        let built = Simulation::build(&opts.config)?;
+        if let Some(snapshot) = &checkpoint {
+            // the model's own fingerprint (with its torque table and, with a deformable wall, the block)
+            let model = built.simulation.model.fingerprint;
+            if let Some(parts) = snapshot.fingerprint().differences(&model, &opts.config) {
+                return Err(Error::Input(format!(
+                    "{}: made for another model: {parts} (fingerprint {}; this configuration gives {model}): \
+                     restart with the configuration of the run (only time.end and [output] may change)",
+                    dir.join(CHECKPOINT_SNAP).display(),
+                    snapshot.fingerprint(),
+                )));
+            }
         }
-        // refuse another model before anything in the folder is touched
-        let bytes = std::fs::read(&snap).map_err(|e| Error::io(&snap, e))?;
-        let snapshot = pendulum_fem_core::Snapshot::from_bytes(&bytes, &snap.display().to_string())?;
-        // the model's own fingerprint (with its torque table and, with a deformable wall, the block)
-        let model = pendulum_fem_core::simulation::Model::new(&opts.config, mesh::generate(&opts.config)?)?;
-        if let Some(parts) = snapshot.fingerprint().differences(&model.fingerprint, &opts.config) {
-            return Err(Error::Input(format!(
-                "{}: made for another model: {parts} (fingerprint {}; this configuration gives {}): restart with \
-                 the configuration of the run (only time.end and [output] may change)",
-                snap.display(),
-                snapshot.fingerprint(),
-                model.fingerprint
-            )));
-        }
-        dir
-    } else {
-        prepare_output_dir(&opts.config.output.dir, opts.out.as_deref(), opts.force)?
-    };
-    run_with(opts, out_dir, |_, _| Ok(()))
+        Ok(Self {
+            built,
+            checkpoint,
+            began,
+        })
+    }
 }
 
 impl RunSummary {
@@ -263,11 +310,24 @@ pub fn run_with(
     out_dir: PathBuf,
     observe: impl FnMut(&Simulation, &StepRecord) -> Result<(), Error>,
 ) -> Result<RunSummary, Error> {
+    run_set_up(opts, out_dir, None, observe)
+}
+
+/// [`run_with`] with the simulation set up already (a restart's, checked against its checkpoint
+/// before the folder was touched) or, `None`, set up once `status.json` says `"running"`.
+fn run_set_up(
+    opts: &RunOptions,
+    out_dir: PathBuf,
+    set_up: Option<SetUp>,
+    observe: impl FnMut(&Simulation, &StepRecord) -> Result<(), Error>,
+) -> Result<RunSummary, Error> {
     let status_path = out_dir.join(crate::status::STATUS_JSON);
     let end_time = opts.config.time.end;
     crate::status::RunStatus::running(end_time).write(&status_path)?;
     let mut reached = None;
-    let result = run_steps(opts, out_dir, observe, &mut reached);
+    let result = set_up
+        .map_or_else(|| SetUp::of(opts, &out_dir), Ok)
+        .and_then(|set_up| run_steps(opts, out_dir, set_up, observe, &mut reached));
     let status = match &result {
         Ok(s) if s.end == RunEnd::Interrupted => {
             crate::status::RunStatus::interrupted(end_time, reached).with_warnings(&s.warnings)
@@ -283,52 +343,155 @@ pub fn run_with(
     Ok(summary)
 }
 
+/// The steps of a run along a [`StepPlan`]: step `first + i` of the simulation is the plan's
+/// `i`-th, of `dt` while `i < plan.full`, else the shortened last one that lands on `end`. The
+/// one rule of the driver's runs (restarted ones too) and the Python package's `run`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanSteps {
+    /// The plan.
+    pub plan: StepPlan,
+    dt: f64,
+    end: f64,
+    first: usize,
+}
+
+impl PlanSteps {
+    /// The steps of a run of `time` from step 0 at time 0 (a restarted run too: its steps keep
+    /// their numbers).
+    pub fn of(time: &Time) -> Self {
+        Self {
+            plan: StepPlan::of(time),
+            dt: time.dt,
+            end: time.end,
+            first: 0,
+        }
+    }
+
+    /// The steps from the state of `sim` now to the time `end` \[s\] in steps of `dt`.
+    pub fn from_now(sim: &Simulation, dt: f64, end: f64) -> Self {
+        let time = Time {
+            dt,
+            end: end - sim.time(),
+            ..Time::default()
+        };
+        Self {
+            plan: StepPlan::of(&time),
+            dt,
+            end,
+            first: sim.step,
+        }
+    }
+
+    /// Whether `sim` has taken every step of the plan.
+    pub fn done(&self, sim: &Simulation) -> bool {
+        sim.step >= self.first + self.plan.steps()
+    }
+
+    /// Takes the next step of the plan; returns its Newton iterations.
+    pub fn take(&self, sim: &mut Simulation) -> Result<usize, Error> {
+        match sim.step < self.first + self.plan.full {
+            true => sim.step(self.dt),
+            false => sim.step_to(self.end),
+        }
+    }
+
+    /// Walks `sim` along the plan: hands the record of the state now, then that of every step, to
+    /// `take`, and ends after the plan's last step ([`RunEnd::Completed`]) or, when `stop` says so
+    /// after a record, at that step boundary ([`RunEnd::Interrupted`]). Returns the last record
+    /// handed over and how the walk ended: the error of a step (the record before it is the last)
+    /// or of `take` ends it too.
+    pub fn walk(
+        &self,
+        sim: &mut Simulation,
+        mut take: impl FnMut(&mut Simulation, &StepRecord) -> Result<(), Error>,
+        mut stop: impl FnMut() -> bool,
+    ) -> (StepRecord, Result<RunEnd, Error>) {
+        let mut record = sim.record(sim.last_newton_iterations());
+        loop {
+            if let Err(e) = take(sim, &record) {
+                return (record, Err(e));
+            }
+            if self.done(sim) {
+                return (record, Ok(RunEnd::Completed));
+            }
+            if stop() {
+                return (record, Ok(RunEnd::Interrupted));
+            }
+            // the stepper advances; the record (with the nodal stresses) is the walk's observation
+            match self.take(sim) {
+                Ok(its) => record = sim.record(its),
+                Err(e) => return (record, Err(e)),
+            }
+        }
+    }
+}
+
 /// The run proper; `reached` follows the last step written to `results.csv` (step, time).
 fn run_steps(
     opts: &RunOptions,
     out_dir: PathBuf,
+    set_up: SetUp,
     mut observe: impl FnMut(&Simulation, &StepRecord) -> Result<(), Error>,
     reached: &mut Option<(usize, f64)>,
 ) -> Result<RunSummary, Error> {
-    let start = Instant::now();
     let cfg = &opts.config;
-    let mesh = mesh::generate(cfg)?;
-    if let Some(warning) = mesh::max_size_warning(cfg, &mesh) {
+    let SetUp {
+        built,
+        checkpoint,
+        began,
+    } = set_up;
+    if let Some(warning) = &built.mesh_warning {
         eprintln!("{warning}");
     }
-    let seconds_mesh = start.elapsed().as_secs_f64();
-    let t_setup = Instant::now();
-    let mut sim = Simulation::from_config(cfg, mesh)?;
-    let seconds_setup = t_setup.elapsed().as_secs_f64();
+    let mut sim = built.simulation;
     let t_steps = Instant::now();
-    let csv_path = out_dir.join("results.csv");
-    let header = crate::rows::header(sim.model.wall.is_some());
-    let (earlier, earlier_times) = match opts.restart {
-        true => resume(&out_dir, &mut sim)?,
-        false => Default::default(),
+    let wall = sim.model.wall.is_some();
+    let header = crate::rows::header(wall);
+    let csv_path = out_dir.join(names::RESULTS_CSV);
+    let events_path = out_dir.join(names::EVENTS_CSV);
+    let impacts_path = out_dir.join(names::IMPACTS_CSV);
+    // A restarted run returns to its checkpoint; the records before it feed the summary and the
+    // observers. With a wall, the sub-steps inside impacts go to impacts.csv (the columns of
+    // results.csv) and the contact events to events.csv.
+    sim.record_impacts(wall);
+    // the contact events in events.csv already
+    let mut events_written = 0;
+    let (resumed_rows, resumed_times, earlier) = match &checkpoint {
+        Some(snapshot) => {
+            let resumed = resume(&out_dir, &mut sim, snapshot)?;
+            let (substeps, impacts_cut) = match wall && impacts_path.is_file() {
+                true => impacts_until(&impacts_path, sim.time()).map(|(kept, cut)| (kept, Some(cut)))?,
+                false => (Vec::new(), None),
+            };
+            let events_cut = match wall && events_path.is_file() {
+                true => Some(events_until(&events_path, sim.contact_events())?),
+                false => None,
+            };
+            if events_cut.is_some() {
+                events_written = sim.contact_events().len();
+            }
+            // every file checked: cut them
+            for cut in [Some(resumed.cut), impacts_cut, events_cut].into_iter().flatten() {
+                cut.apply()?;
+            }
+            // one list in time order, the rows of results.csv first where times tie
+            let mut earlier: Vec<StepRecord> = resumed.rows.iter().cloned().chain(substeps).collect();
+            earlier.sort_by(|a, b| a.time.total_cmp(&b.time));
+            (resumed.rows, resumed.times, earlier)
+        }
+        None => Default::default(),
     };
     if opts.checkpoint_every.is_some() {
         write_checkpoint_config(&out_dir, cfg)?;
     }
-    let mut csv = match opts.restart {
-        true => CsvWriter::append(&csv_path, &header)?,
-        false => CsvWriter::create(&csv_path, &header)?,
+    let open = |path: &Path, header: &str| match checkpoint.is_some() && path.is_file() {
+        true => CsvWriter::append(path, header),
+        false => CsvWriter::create(path, header),
     };
-    // with a wall, the sub-steps inside impacts go to impacts.csv (the columns of results.csv)
-    let mut impacts_csv = match sim.model.wall.is_some() {
-        true => {
-            sim.record_impacts(true);
-            let path = out_dir.join(crate::outdir::names::IMPACTS_CSV);
-            Some(match opts.restart && path.is_file() {
-                true => {
-                    cut_rows_after(&path, sim.time())?;
-                    CsvWriter::append(&path, &header)?
-                }
-                false => CsvWriter::create(&path, &header)?,
-            })
-        }
-        false => None,
-    };
+    let mut csv = open(&csv_path, &header)?;
+    let mut impacts_csv = wall.then(|| open(&impacts_path, &header)).transpose()?;
+    // events.csv gets a row per contact event as it happens (a restarted run's from its checkpoint on)
+    let mut events_csv = wall.then(|| open(&events_path, EVENTS_HEADER)).transpose()?;
     let mut summary = RunSummary {
         out_dir: out_dir.clone(),
         mesh_triangles: sim.model.mesh.triangles.len(),
@@ -341,7 +504,8 @@ fn run_steps(
         config: cfg,
         sim: &sim,
         out_dir: &out_dir,
-        resumed: &earlier_times,
+        resumed: &resumed_times,
+        earlier: &earlier,
     };
     let mut observers = Vec::with_capacity(opts.observers.len());
     for attach in &opts.observers {
@@ -351,107 +515,87 @@ fn run_steps(
     let mut period = PeriodEstimator::default();
     let mut impacts = ImpactSummary::default();
     let mut audit = EnergyAudit::of(&sim.model);
-    let plan = StepPlan::of(&cfg.time);
-    summary.last_step = plan.last;
-    let stop_requested = || opts.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst));
-    for r in &earlier {
+    let steps = PlanSteps::of(&cfg.time);
+    summary.last_step = steps.plan.last;
+    for r in &resumed_rows {
         // the events up to this record, as the record saw them when it was first written
         let events = sim.contact_events();
         let seen = &events[..events.partition_point(|e| e.time <= r.time)];
         summary.take_record(&mut period, &mut impacts, r, seen);
         audit.push(r);
     }
-    let mut record = sim.record(sim.last_newton_iterations());
     // a restarted run's first record (the checkpoint's) is in results.csv and the frames already
-    let mut resumed = opts.restart;
-    // The loop ends with `Ok(())` (completed or interrupted) or the error that stopped it; the
-    // outputs of what was computed are finished either way.
-    let mut events_written = usize::MAX;
-    let stopped: Result<(), Error> = loop {
-        if !resumed {
-            if let Err(e) = csv.row(&csv_values(&record)) {
-                break Err(e);
+    let mut resumed = checkpoint.is_some();
+    // The walk ends completed, interrupted or with the error that stopped it; the outputs of what
+    // was computed are finished either way.
+    let (record, walked) = steps.walk(
+        &mut sim,
+        |sim, record| {
+            let substeps = sim.take_impact_records();
+            if let Some(w) = impacts_csv.as_mut() {
+                substeps.iter().try_for_each(|r| w.row(&csv_values(r)))?;
             }
-        }
-        if sim.model.wall.is_some() && sim.contact_events().len() != events_written {
-            events_written = sim.contact_events().len();
-            if let Err(e) = write_events(&out_dir, sim.contact_events()) {
-                break Err(e);
+            if !resumed {
+                csv.row(&csv_values(record))?;
             }
-        }
-        *reached = Some((record.step, record.time));
-        let t_out = Instant::now();
-        if let Err(e) = observers
-            .iter_mut()
-            .try_for_each(|o| o.record(&mut sim, &record, resumed))
-        {
-            break Err(e);
-        }
-        seconds_outputs += t_out.elapsed().as_secs_f64();
-        if let Err(e) = observe(&sim, &record) {
-            break Err(e);
-        }
-        summary.take_record(&mut period, &mut impacts, &record, sim.contact_events());
-        let error = audit.push(&record);
-        if cfg.output.energy_watchdog > 0.0 && error > cfg.output.energy_watchdog {
-            break Err(audit.divergence(&record, cfg.output.energy_watchdog));
-        }
-        if let Some(every) = opts.checkpoint_every {
-            if sim.step.is_multiple_of(every.max(1)) && !resumed {
-                // every row and frame up to this step on disk first, then the snapshot
-                let written = csv
-                    .flush()
-                    .and_then(|()| observers.iter_mut().try_for_each(|o| o.sync()));
-                if let Err(e) = written.and_then(|()| write_checkpoint(&out_dir, &sim)) {
-                    break Err(e);
+            if let Some(w) = events_csv.as_mut() {
+                let events = sim.contact_events();
+                if events.len() > events_written {
+                    events[events_written..]
+                        .iter()
+                        .try_for_each(|e| w.line(&event_row(e)))?;
+                    // a few rows a run: on disk at once, for whoever watches the folder
+                    w.flush()?;
+                    events_written = events.len();
                 }
             }
-        }
-        resumed = false;
-        if let Some(w) = sim.take_warning() {
-            eprintln!("{w}");
-            summary.warnings.push(w);
-        }
-        if sim.step >= plan.steps() {
-            break Ok(());
-        }
-        if stop_requested() {
-            summary.end = RunEnd::Interrupted;
-            break Ok(());
-        }
-        // the stepper advances; the record (with the nodal stresses) is this loop's observation
-        let stepped = if sim.step < plan.full {
-            sim.step(cfg.time.dt)
-        } else {
-            sim.step_to(cfg.time.end)
-        };
-        match stepped {
-            Ok(its) => record = sim.record(its),
-            Err(e) => break Err(e),
-        }
-        if let Some(w) = impacts_csv.as_mut() {
-            if let Err(e) = sim.take_impact_records().iter().try_for_each(|r| w.row(&csv_values(r))) {
-                break Err(e);
+            *reached = Some((record.step, record.time));
+            let t_out = Instant::now();
+            for o in observers.iter_mut() {
+                if !substeps.is_empty() {
+                    o.substeps(&substeps)?;
+                }
+                o.record(sim, record, resumed)?;
             }
-        }
-    };
+            seconds_outputs += t_out.elapsed().as_secs_f64();
+            observe(sim, record)?;
+            summary.take_record(&mut period, &mut impacts, record, sim.contact_events());
+            let error = audit.push(record);
+            if cfg.output.energy_watchdog > 0.0 && error > cfg.output.energy_watchdog {
+                return Err(audit.divergence(record, cfg.output.energy_watchdog));
+            }
+            if let Some(every) = opts.checkpoint_every {
+                if sim.step.is_multiple_of(every.max(1)) && !resumed {
+                    // every row and frame up to this step on disk first, then the snapshot
+                    csv.flush()?;
+                    for w in impacts_csv.iter_mut().chain(events_csv.iter_mut()) {
+                        w.flush()?;
+                    }
+                    observers.iter_mut().try_for_each(|o| o.sync())?;
+                    write_checkpoint(&out_dir, sim)?;
+                }
+            }
+            resumed = false;
+            if let Some(w) = sim.take_warning() {
+                eprintln!("{w}");
+                summary.warnings.push(w);
+            }
+            Ok(())
+        },
+        || opts.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst)),
+    );
     // Finish every output with what was computed; the first error wins.
-    let mut first_error = stopped.err();
-    if sim.model.wall.is_some() {
-        summary.files.push(out_dir.join("events.csv"));
+    let mut first_error = None;
+    match walked {
+        Ok(end) => summary.end = end,
+        Err(e) => first_error = Some(e),
     }
-    if let Some(w) = impacts_csv {
+    for w in [events_csv, impacts_csv, Some(csv)].into_iter().flatten() {
         match w.finish() {
             Ok(path) => summary.files.push(path),
             Err(e) => {
                 first_error.get_or_insert(e);
             }
-        }
-    }
-    match csv.finish() {
-        Ok(path) => summary.files.push(path),
-        Err(e) => {
-            first_error.get_or_insert(e);
         }
     }
     // the end of a completed or interrupted run is a checkpoint too (a finished run can be continued)
@@ -483,7 +627,7 @@ fn run_steps(
     summary.newton_iterations = sim.total_iterations;
     summary.factorizations = sim.total_factorizations;
     summary.cutbacks = sim.cutbacks;
-    if sim.model.wall.is_some() {
+    if wall {
         impacts.of_events(sim.contact_events());
         summary.impacts = Some(impacts);
     }
@@ -493,9 +637,72 @@ fn run_steps(
     summary.energy_error = audit.error();
     summary.energy_scale = audit.scale();
     summary.timings = sim.timings();
-    summary.seconds_mesh = seconds_mesh;
-    summary.seconds_setup = seconds_setup;
+    summary.seconds_mesh = built.mesh_seconds;
+    summary.seconds_setup = built.setup_seconds;
     summary.seconds_steps = t_steps.elapsed().as_secs_f64();
-    summary.seconds_total = start.elapsed().as_secs_f64();
+    summary.seconds_total = began.elapsed().as_secs_f64();
     Ok(summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::cell::Cell;
+
+    use super::*;
+
+    thread_local! {
+        /// The set-ups of this thread's runs ([`SetUp::of`]: each builds the simulation once and
+        /// decodes a restart's checkpoint once).
+        pub(super) static SET_UPS: Cell<usize> = const { Cell::new(0) };
+    }
+
+    #[test]
+    fn a_restart_decodes_its_checkpoint_and_builds_its_simulation_once() {
+        let dir = std::env::temp_dir().join(format!("pendulum-fem-restart-once-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let mut config = Config::default();
+        config.time.end = 2.0 * config.time.dt;
+        let opts = RunOptions {
+            config,
+            out: Some(dir.clone()),
+            checkpoint_every: Some(1),
+            ..Default::default()
+        };
+        run(&opts).unwrap();
+        let mut opts = RunOptions { restart: true, ..opts };
+        opts.config.time.end = 3.0 * opts.config.time.dt;
+        let before = SET_UPS.with(Cell::get);
+        let summary = run(&opts).unwrap();
+        assert_eq!(SET_UPS.with(Cell::get) - before, 1, "one set-up for the restart");
+        assert_eq!((summary.steps, summary.end), (3, RunEnd::Completed));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn the_steps_of_a_plan_from_now_land_on_its_end_with_a_shortened_last_step() {
+        let mut config = Config::default();
+        config.time.end = 0.0;
+        let mut sim = Simulation::build(&config).unwrap().simulation;
+        let (dt, end) = (0.01, 0.025);
+        let steps = PlanSteps::from_now(&sim, dt, end);
+        assert_eq!((steps.plan.full, steps.plan.steps()), (2, 3));
+        let mut times = Vec::new();
+        let (last, walked) = steps.walk(
+            &mut sim,
+            |_, r| {
+                times.push(r.time);
+                Ok(())
+            },
+            || false,
+        );
+        assert_eq!(walked.unwrap(), RunEnd::Completed);
+        assert_eq!(times, [0.0, 0.01, 0.02, end]);
+        assert_eq!(last.time, end);
+        // from there, one more step of dt; asked to stop, the walk stops before it
+        let steps = PlanSteps::from_now(&sim, dt, end + dt);
+        let (_, walked) = steps.walk(&mut sim, |_, _| Ok(()), || true);
+        assert_eq!((walked.unwrap(), sim.step), (RunEnd::Interrupted, 3));
+        let (last, walked) = steps.walk(&mut sim, |_, _| Ok(()), || false);
+        assert_eq!((walked.unwrap(), sim.step, last.time), (RunEnd::Completed, 4, end + dt));
+    }
 }

@@ -12,8 +12,7 @@
 //!   this is the ratio of the normal velocities), averaged over the impacts; 1 for an impact that
 //!   returns all the kinetic energy to the swing. ω is the best-fit rate of the velocity field, so
 //!   at the impact's end it carries the elastic vibration the impact leaves in the body: e can
-//!   come out a little above 1 (1.0016 for the steel pendulum on the rigid wall, whose swing keeps
-//!   all but 1e-5 of its energy);
+//!   come out a little above 1 for an impact that returns nearly all the energy;
 //! * the **rebound angle**: the largest |θ| of the records after the first impact ended and
 //!   before the next one started (or the run ended), the swing's amplitude after the impact.
 

@@ -2,12 +2,15 @@
 //!
 //! A run of the pendulum from a configuration to its folder of results, without pictures and
 //! without a terminal: the driver ([`driver::run`]) steps a
-//! [`Simulation`](pendulum_fem_core::Simulation) through its [`StepPlan`], streams
-//! `results.csv` ([`rows`], [`csv`]), `events.csv` and `impacts.csv`, keeps the energy balance
-//! with its watchdog ([`audit`]), writes checkpoints and restarts from them ([`checkpoint`]), and
-//! leaves `status.json` ([`status`]) however it ends. Pictures, ParaView files and a progress bar
-//! watch a run through [`driver::RunObserver`] (the crate `pendulum-fem-render` and the CLI
-//! supply them). Parameter studies ([`study`]) run one case per configuration.
+//! [`Simulation`](pendulum_fem_core::Simulation) through its [`StepPlan`]
+//! ([`driver::PlanSteps`], the Python package's `run` too), streams `results.csv` ([`rows`],
+//! [`csv`]), `events.csv` and `impacts.csv`, keeps the energy balance with its watchdog
+//! ([`audit`]), writes checkpoints and restarts from them ([`checkpoint`]), and leaves
+//! `status.json` ([`status`]) however it ends. Pictures, ParaView files and a progress bar watch a
+//! run through [`driver::RunObserver`] (the crate `pendulum-fem-render` and the CLI supply them),
+//! taking its records as they are written. The one reader of what a run wrote is
+//! [`rows::read_records`] (through the core's [`Table`](pendulum_fem_core::store::Table)) and
+//! [`rows::read_events`]. Parameter studies ([`study`]) run one case per configuration.
 //!
 //! The layers: `pendulum-fem-core` (the numerics) ← this crate ← `pendulum-fem-render` (files
 //! and pictures) ← the CLI; the FMU and the Python module use the core and this crate only.

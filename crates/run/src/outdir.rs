@@ -18,12 +18,11 @@ use crate::Error;
 
 /// File names inside the output folder.
 pub mod names {
-    /// The solver's time history (read by the plots).
+    /// The solver's time history, a row per step.
     pub const RESULTS_CSV: &str = "results.csv";
-    /// The contact events of a run with a wall (read by the plots for the impact marks).
+    /// The contact events of a run with a wall, a row per event as it happens.
     pub const EVENTS_CSV: &str = "events.csv";
-    /// The records of the sub-steps inside impacts, the columns of `results.csv` (read by the
-    /// plots beside it).
+    /// The records of the sub-steps inside impacts, the columns of `results.csv`.
     pub const IMPACTS_CSV: &str = "impacts.csv";
     /// θ(t) plot.
     pub const THETA_PNG: &str = "theta.png";
@@ -180,7 +179,7 @@ fn update_latest(base: &Path, dir: &Path) {
         }
         let _ = std::fs::remove_file(&tmp);
     }
-    let _ = crate::files::write_atomically(&base.join(format!("{LATEST}.txt")), |w| {
+    let _ = pendulum_fem_core::store::write_atomically(&base.join(format!("{LATEST}.txt")), |w| {
         writeln!(w, "{}", name.to_string_lossy())
     });
 }
@@ -196,5 +195,35 @@ mod tests {
         assert_eq!(run_number("run-"), None);
         assert_eq!(run_number("run-1a"), None);
         assert_eq!(run_number("latest"), None);
+    }
+
+    #[test]
+    fn forced_runs_clear_the_partial_files_of_the_cores_atomic_writes_and_keep_other_files() {
+        let dir = std::env::temp_dir().join(format!("pendulum-fem-clear-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join(names::FRAMES_DIR)).unwrap();
+        // the names pendulum_fem_core::store::write_atomically gives its temporary files
+        let pid = std::process::id();
+        let run_files = [
+            format!("{}.{pid}-0-123456789.partial", names::EVENTS_CSV),
+            format!("{}.{pid}-3-42.partial", names::PVD_NAME),
+            format!("{}/step_00010.vtu.{pid}-7-1.partial", names::FRAMES_DIR),
+            names::RESULTS_CSV.to_string(),
+        ];
+        let kept = ["notes.txt", "notes.txt.1-2-3.partial"];
+        for name in run_files.iter().map(String::as_str).chain(kept) {
+            std::fs::write(dir.join(name), b"x").unwrap();
+        }
+        clear_run_outputs(&dir).unwrap();
+        let mut left: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        left.sort();
+        assert_eq!(
+            left, kept,
+            "only the files no run writes are left (frames/ emptied and removed)"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

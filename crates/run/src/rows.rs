@@ -1,8 +1,12 @@
-//! Records to rows: the values of a [`StepRecord`] in `results.csv`'s column order and back (for a
-//! restart), and the rows of `events.csv`.
+//! Records to rows and back: the values of a [`StepRecord`] in `results.csv`'s column order, the
+//! records of a table of those columns (a restart's rows before its checkpoint, a test's look at
+//! a run's folder), and the rows of `events.csv` both ways.
+
+use std::path::Path;
 
 use pendulum_fem_core::post::unsigned_zero;
 use pendulum_fem_core::simulation::{ContactEvent, ContactEventKind, ContactRecord, StepRecord};
+use pendulum_fem_core::store::Table;
 use pendulum_fem_core::Error;
 
 /// A column of `results.csv`: its name, its value in a record, and the record field it fills
@@ -153,19 +157,79 @@ pub fn event_name(kind: ContactEventKind) -> &'static str {
 /// Header of `events.csv`.
 pub const EVENTS_HEADER: &str = "time_s,event,theta_rad,omega_rad_s,impulse_N_s,max_penetration_m,max_force_N";
 
-/// Writes `events.csv` (every contact event so far; replaced atomically, so that a stopped or
-/// restarted run leaves it whole).
-pub(crate) fn write_events(dir: &std::path::Path, events: &[ContactEvent]) -> Result<(), Error> {
-    let mut text = format!("{EVENTS_HEADER}\n");
-    for e in events {
-        let [time, theta, omega, impulse, penetration, force] =
-            [e.time, e.theta, e.omega, e.impulse, e.penetration, e.force].map(unsigned_zero);
-        text.push_str(&format!(
-            "{time},{},{theta},{omega},{impulse},{penetration},{force}\n",
-            event_name(e.kind)
-        ));
+/// The row of `events.csv` of a contact event (without the line break), a negative zero as `0`.
+pub fn event_row(e: &ContactEvent) -> String {
+    let [time, theta, omega, impulse, penetration, force] =
+        [e.time, e.theta, e.omega, e.impulse, e.penetration, e.force].map(unsigned_zero);
+    format!(
+        "{time},{},{theta},{omega},{impulse},{penetration},{force}",
+        event_name(e.kind)
+    )
+}
+
+/// Reads the contact events of an `events.csv` (this program's header and rows, [`event_row`]);
+/// errors name the file and the line.
+pub fn read_events(path: &Path) -> Result<Vec<ContactEvent>, Error> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let source = path.display();
+    let mut lines = text.lines().enumerate();
+    let header = lines.next().map_or("", |(_, l)| l);
+    if header != EVENTS_HEADER {
+        return Err(Error::Input(format!(
+            "{source}:1: the header `{header}` is not this program's `{EVENTS_HEADER}`"
+        )));
     }
-    crate::files::write_atomically(&dir.join("events.csv"), |w| w.write_all(text.as_bytes()))
+    let mut events = Vec::new();
+    for (i, line) in lines.filter(|(_, l)| !l.trim().is_empty()) {
+        let bad = |what: &str| Error::Input(format!("{source}:{}: {what} (in `{line}`)", i + 1));
+        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+        let [time, kind, theta, omega, impulse, penetration, force] = cells[..] else {
+            return Err(bad(&format!("{} values, the header has 7 columns", cells.len())));
+        };
+        let kind = match kind {
+            "impact_start" => ContactEventKind::Start,
+            "impact_end" => ContactEventKind::End,
+            other => return Err(bad(&format!("`{other}` is not an event (impact_start, impact_end)"))),
+        };
+        let number = |cell: &str| {
+            cell.parse::<f64>()
+                .map_err(|_| bad(&format!("`{cell}` is not a number")))
+        };
+        events.push(ContactEvent {
+            time: number(time)?,
+            kind,
+            theta: number(theta)?,
+            omega: number(omega)?,
+            impulse: number(impulse)?,
+            penetration: number(penetration)?,
+            force: number(force)?,
+        });
+    }
+    Ok(events)
+}
+
+/// The records of a table of `results.csv`'s (or `impacts.csv`'s) columns, the step of each its
+/// row's index; a table with other columns is an error naming `source`.
+pub fn records_of_table(table: &Table, source: &str) -> Result<Vec<StepRecord>, Error> {
+    let names = table.names.join(",");
+    let expected = header(table.names.len() > COLUMNS.len());
+    if names != expected {
+        return Err(Error::Input(format!(
+            "{source}: the columns `{names}` are not this program's `{expected}`"
+        )));
+    }
+    Ok(table
+        .rows
+        .iter()
+        .enumerate()
+        .map(|(i, row)| record_of_row(i, row))
+        .collect())
+}
+
+/// Reads the records of a `results.csv` or `impacts.csv` ([`records_of_table`]); errors name the
+/// file and the line.
+pub fn read_records(path: &Path) -> Result<Vec<StepRecord>, Error> {
+    records_of_table(&Table::read(path)?, &path.display().to_string())
 }
 
 /// The record of a `results.csv` row (in [`csv_values`] order) of step `step`.
@@ -226,6 +290,57 @@ mod tests {
             assert_eq!(values.len(), header(contact).split(',').count());
             assert_eq!(record_of_row(r.step, &values), r);
         }
+    }
+
+    #[test]
+    fn events_csv_reads_back_to_the_events_written_and_bad_rows_name_their_line() {
+        let dir = std::env::temp_dir().join(format!("pendulum-fem-events-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("events.csv");
+        let events = [
+            ContactEvent {
+                time: 0.2401,
+                kind: ContactEventKind::Start,
+                theta: 1e-3,
+                omega: -1.25,
+                impulse: 0.0,
+                penetration: 0.0,
+                force: 0.0,
+            },
+            ContactEvent {
+                time: 0.2423,
+                kind: ContactEventKind::End,
+                theta: 2e-4,
+                omega: 1.249,
+                impulse: 0.03125,
+                penetration: 1.5e-6,
+                force: 712.5,
+            },
+        ];
+        let mut text = format!("{EVENTS_HEADER}\n");
+        events.iter().for_each(|e| text.push_str(&(event_row(e) + "\n")));
+        std::fs::write(&path, &text).unwrap();
+        assert_eq!(read_events(&path).unwrap(), events);
+        std::fs::write(&path, text.replace("impact_end", "impact_middle")).unwrap();
+        let e = read_events(&path).unwrap_err().to_string();
+        assert!(e.contains("events.csv:3: `impact_middle` is not an event"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn records_read_back_from_a_table_of_this_programs_columns_only() {
+        let r = record(true);
+        let row: Vec<String> = csv_values(&r).iter().map(f64::to_string).collect();
+        let text = format!("{}\n{}\n{}\n", header(true), row.join(","), row.join(","));
+        let records = records_of_table(&Table::parse(&text, "x.csv").unwrap(), "x.csv").unwrap();
+        assert_eq!(records.iter().map(|r| r.step).collect::<Vec<_>>(), [0, 1]);
+        assert_eq!(records[1], StepRecord { step: 1, ..r });
+        let other = Table::parse("time_s,theta_rad\n0,1\n", "y.csv").unwrap();
+        let e = records_of_table(&other, "y.csv").unwrap_err().to_string();
+        assert!(
+            e.contains("y.csv: the columns `time_s,theta_rad` are not this program's"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -80,7 +80,7 @@ impl RunStatus {
     /// Writes the status to `path` (atomically).
     pub fn write(&self, path: &Path) -> Result<(), Error> {
         let text = serde_json::to_string_pretty(self).expect("a status serialises");
-        crate::files::write_atomically(path, |w| writeln!(w, "{text}"))
+        pendulum_fem_core::store::write_atomically(path, |w| writeln!(w, "{text}"))
     }
 
     /// Reads a status file.

@@ -330,7 +330,6 @@ impl TorqueBench {
 /// `amplitude = 0` both runs follow the same motion (same Newton iterations), so the difference is
 /// the cost of the term and of its denser pattern alone.
 pub fn bench_torque(cfg: &Config, steps: usize, repeats: usize, amplitude: f64) -> Result<TorqueBench, Error> {
-    let mesh = mesh::generate(cfg)?;
     let mut without = cfg.clone();
     without.torque = Default::default();
     let mut with = cfg.clone();
@@ -346,7 +345,7 @@ pub fn bench_torque(cfg: &Config, steps: usize, repeats: usize, amplitude: f64) 
     };
     for _ in 0..repeats.max(1) {
         for (k, c) in [&without, &with].into_iter().enumerate() {
-            let mut sim = Simulation::from_config(c, mesh.clone())?;
+            let mut sim = Simulation::build(c)?.simulation;
             let start = Instant::now();
             let cpu0 = cpu_seconds().unwrap_or(f64::NAN);
             for _ in 0..steps {

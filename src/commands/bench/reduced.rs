@@ -21,7 +21,7 @@ use std::time::{Duration, Instant};
 use super::{temp_dir, time_default_run};
 use crate::config::ModelKind;
 use crate::simulation::Simulation;
-use crate::{mesh, Config, Error};
+use crate::{Config, Error};
 
 /// The figures of [`bench_reduced`] \[s\].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -113,10 +113,9 @@ pub fn bench_reduced(cfg: &Config, repeats: usize) -> Result<ReducedBench, Error
         c.output.viewer = false;
         c
     });
-    let mesh = mesh::generate(cfg)?;
     let mut out = ReducedBench::default();
     for (k, c) in kinds.iter().enumerate() {
-        let mut sim = Simulation::from_config(c, mesh.clone())?;
+        let mut sim = Simulation::build(c)?.simulation;
         out.step[k] = best(repeats, || {
             let t = Instant::now();
             for _ in 0..STEPS[k] {

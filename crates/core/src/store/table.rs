@@ -20,6 +20,8 @@ pub struct Table {
     pub rows: Vec<Vec<f64>>,
     /// The line of each row in the source (1-based).
     pub lines: Vec<usize>,
+    /// The line of the header (1-based).
+    pub header_line: usize,
 }
 
 impl Table {
@@ -36,12 +38,13 @@ impl Table {
             .enumerate()
             .map(|(i, l)| (i + 1, l.trim()))
             .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-        let (_, header) = lines
+        let (header_line, header) = lines
             .next()
             .ok_or_else(|| Error::Input(format!("{source}: empty file (expected a header line)")))?;
         let names: Vec<String> = header.split(',').map(|s| s.trim().to_string()).collect();
         let mut table = Self {
             names,
+            header_line,
             ..Self::default()
         };
         for (no, line) in lines {
@@ -93,7 +96,7 @@ mod tests {
         let t = Table::parse("# a comment\ntime_s, theta_rad\n0,0.1\n\n0.01,-2.5e-3\n", "x.csv").unwrap();
         assert_eq!(t.names, ["time_s", "theta_rad"]);
         assert_eq!(t.rows, [vec![0.0, 0.1], vec![0.01, -2.5e-3]]);
-        assert_eq!(t.lines, [3, 5]);
+        assert_eq!((t.header_line, t.lines.as_slice()), (2, [3, 5].as_slice()));
         assert_eq!(t.column("theta_rad", "x.csv").unwrap(), [0.1, -2.5e-3]);
         let e = t.column("omega", "x.csv").unwrap_err().to_string();
         assert!(

@@ -62,7 +62,7 @@ pub fn write_gif(path: &Path, mesh: &Mesh, frames: &[KeptFrame], field: AnimFiel
     };
 
     let palette: Vec<u8> = raster::palette().into_iter().flatten().collect();
-    crate::write_atomically(path, |out| {
+    pendulum_fem_core::store::write_atomically(path, |out| {
         let mut enc = gif::Encoder::new(out, w as u16, h as u16, &palette).map_err(std::io::Error::other)?;
         enc.set_repeat(gif::Repeat::Infinite).map_err(std::io::Error::other)?;
         // Render and compress in parallel, a chunk of frames at a time (bounded memory); each frame

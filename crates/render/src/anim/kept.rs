@@ -17,8 +17,8 @@ pub struct KeptFrame {
     /// |u| per node \[m\] (the viewer's displacement field).
     pub u_abs: Vec<f32>,
     /// |elastic| per node \[m\]: what `displacement.gif` colours. The total |u| is nearly all rigid
-    /// rotation (0–0.10 m for the tutorial's swing), while the shape drawn magnifies the elastic
-    /// part by about 2e5: colouring |u| showed the swing's angle, not the deformation drawn.
+    /// rotation, while the shape drawn magnifies the elastic part: colouring |u| would show the
+    /// swing's angle, not the deformation drawn.
     pub elastic_abs: Vec<f32>,
     /// Von Mises stress per node \[Pa\].
     pub von_mises: Vec<f32>,

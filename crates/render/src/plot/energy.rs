@@ -12,12 +12,12 @@
 //!
 //! The time panels draw every curve at the resolution of their pixel columns ([`bars`]): the
 //! samples in one column become a bar from their smallest to their largest value, and the samples
-//! of one impact (a 2 ms impact is one or two columns of a 1.25 s plot, sampled about 29 times
-//! in `impacts.csv`) become one bar at the column where the impact starts. So every impact is drawn
+//! of one impact (an impact is a column or two of a plot of the whole run, sampled by many rows of
+//! `impacts.csv`) become one bar at the column where the impact starts. So every impact is drawn
 //! to its full height and identical impacts are drawn identically, whatever the sub-pixel phase of
-//! their samples. (A 2 px polyline through 29 samples going up and back within two columns folds
-//! onto itself, and the rasteriser's polygon fill cut identical spikes to heights differing by up
-//! to 100 px.) Where the kinetic and the contact energy trade places in an impact's column, the
+//! their samples. (A polyline through an impact's samples, going up and back within a column or
+//! two, folds onto itself, and the rasteriser's polygon fill cuts identical spikes to different
+//! heights.) Where the kinetic and the contact energy trade places in an impact's column, the
 //! contact energy is drawn on top; the impact panel shows both.
 
 use plotters::coord::types::RangedCoordf64;

@@ -149,7 +149,7 @@ fn run_config(varied: Vec<(String, String)>, cfg: Config, dir: &Path, opts: &Cas
     let wall = cfg.wall.is_present();
     let written = config_text(&cfg).and_then(|text| {
         let path = dir.join(CASE_CONFIG);
-        crate::files::write_atomically(&path, |w| w.write_all(text.as_bytes()))
+        pendulum_fem_core::store::write_atomically(&path, |w| w.write_all(text.as_bytes()))
     });
     if let Err(e) = written {
         return CaseRow::without_metrics(varied, CaseStatus::Failed(one_line(&error_chain(&e))));
@@ -229,7 +229,7 @@ fn wall_metrics(s: &RunSummary) -> WallMetrics {
 fn write_row(dir: &Path, row: &CaseRow) -> Result<(), Error> {
     let keys: Vec<String> = row.varied.iter().map(|(k, _)| k.clone()).collect();
     let text = format!("{}\n{}\n", header(&keys, row.has_wall()), row.csv_line(row.has_wall()));
-    crate::files::write_atomically(&dir.join(CASE_SUMMARY), |w| w.write_all(text.as_bytes()))
+    pendulum_fem_core::store::write_atomically(&dir.join(CASE_SUMMARY), |w| w.write_all(text.as_bytes()))
 }
 
 /// A message on one line (a summary row per case).

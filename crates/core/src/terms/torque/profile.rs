@@ -37,9 +37,10 @@ impl TorqueTable {
         let table = crate::store::Table::parse(text, source)?;
         if table.names != ["time_s", "torque_Nm"] {
             let header = table.names.join(",");
-            return Err(Error::Input(format!(
-                "{source}: header `{header}`: expected `time_s,torque_Nm`"
-            )));
+            return Err(err(
+                table.header_line,
+                format!("header `{header}`: expected `time_s,torque_Nm`"),
+            ));
         }
         let (mut times, mut torques) = (Vec::new(), Vec::new());
         for (row, &no) in table.rows.iter().zip(&table.lines) {
