@@ -8,9 +8,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
-use pendulum_fem_core::config::{StepPlan, Time};
 use pendulum_fem_core::post::PeriodEstimator;
-use pendulum_fem_core::simulation::{Built, ContactEvent, Simulation, StepRecord};
+use pendulum_fem_core::simulation::{Built, Simulation, StepRecord};
 use pendulum_fem_core::{Config, Error, Snapshot};
 
 use crate::audit::EnergyAudit;
@@ -23,74 +22,13 @@ use crate::outdir::names;
 use crate::prepare_output_dir;
 use crate::rows::{csv_values, event_row, EVENTS_HEADER};
 
-/// What a run's observers are made from, once its simulation is set up (and, for a restart,
-/// returned to its checkpoint).
-pub struct RunStart<'a> {
-    /// The configuration of the run.
-    pub config: &'a Config,
-    /// The simulation, at its first record's state.
-    pub sim: &'a Simulation,
-    /// The run's folder.
-    pub out_dir: &'a Path,
-    /// A restarted run: the `(step, time)` of every `results.csv` row up to and including the
-    /// checkpoint's; empty for a fresh run.
-    pub resumed: &'a [(usize, f64)],
-    /// A restarted run: the records its folder holds from before the checkpoint, the rows of
-    /// `results.csv` before the checkpoint's and those of `impacts.csv`, in time order (what
-    /// [`RunObserver::record`] and [`RunObserver::substeps`] took before the run was stopped);
-    /// empty for a fresh run.
-    pub earlier: &'a [StepRecord],
-}
+mod observer;
+mod plan;
+mod summary;
 
-/// Something that watches a run beside its CSV files: the pictures and ParaView frames
-/// (`pendulum-fem-render`), the CLI's progress bar. The driver calls it in this order:
-/// [`RunObserver::record`] for every record (the rows of `results.csv`), after each step's
-/// [`RunObserver::substeps`] (the rows it adds to `impacts.csv`), [`RunObserver::sync`] before each
-/// checkpoint, and [`RunObserver::finish`] once at the end, whether the run completed, was
-/// interrupted or failed. The records so come in time order.
-pub trait RunObserver {
-    /// Takes the record of the latest step (step 0's first). `resumed`: the record is a restarted
-    /// run's checkpoint, whose outputs its folder already holds.
-    fn record(&mut self, sim: &mut Simulation, record: &StepRecord, resumed: bool) -> Result<(), Error>;
-
-    /// Takes the records of the sub-steps inside an impact that the step just taken wrote to
-    /// `impacts.csv` ([`Simulation::record_impacts`]), before that step's [`RunObserver::record`].
-    fn substeps(&mut self, records: &[StepRecord]) -> Result<(), Error> {
-        let _ = records;
-        Ok(())
-    }
-
-    /// Everything observed so far is on disk (a checkpoint follows).
-    fn sync(&mut self) -> Result<(), Error> {
-        Ok(())
-    }
-
-    /// The run has ended at `last` (the last state computed); returns the files written.
-    fn finish(self: Box<Self>, sim: &mut Simulation, last: &StepRecord) -> Result<Vec<PathBuf>, Error>;
-}
-
-/// Makes an observer for a run ([`RunOptions::observers`]); `None`: this run needs none (say,
-/// pictures that the configuration switched off).
-pub type MakeObserver = dyn Fn(&RunStart<'_>) -> Result<Option<Box<dyn RunObserver>>, Error> + Send + Sync;
-
-/// An observer maker that [`RunOptions`] can hold (and clone, and print).
-#[derive(Clone)]
-pub struct Attach(pub Arc<MakeObserver>);
-
-impl Attach {
-    /// Wraps an observer maker.
-    pub fn new(
-        make: impl Fn(&RunStart<'_>) -> Result<Option<Box<dyn RunObserver>>, Error> + Send + Sync + 'static,
-    ) -> Self {
-        Self(Arc::new(make))
-    }
-}
-
-impl std::fmt::Debug for Attach {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("Attach(..)")
-    }
-}
+pub use observer::{Attach, MakeObserver, RunObserver, RunStart};
+pub use plan::PlanSteps;
+pub use summary::{RunEnd, RunSummary};
 
 /// What to run and where to write. `RunOptions { config, out: Some(dir), ..Default::default() }`
 /// leaves everything else at its default (no force, no observers, no stop flag, no checkpoints).
@@ -114,74 +52,6 @@ pub struct RunOptions {
     pub checkpoint_every: Option<usize>,
     /// Continue the run in `out` from its [`CHECKPOINT_SNAP`] (see [`run`]).
     pub restart: bool,
-}
-
-/// Figures of a finished run.
-#[derive(Clone, Debug, Default)]
-pub struct RunSummary {
-    /// Output folder.
-    pub out_dir: PathBuf,
-    /// Files written.
-    pub files: Vec<PathBuf>,
-    /// Triangles and nodes of the mesh, unknowns of the system.
-    pub mesh_triangles: usize,
-    /// Mesh nodes.
-    pub mesh_nodes: usize,
-    /// Unknowns (displacements + 2 multipliers).
-    pub unknowns: usize,
-    /// How the run ended.
-    pub end: RunEnd,
-    /// Steps computed.
-    pub steps: usize,
-    /// Time of the last state computed \[s\].
-    pub time_reached: f64,
-    /// The length of a shortened last step that lands on `time.end` \[s\], when `time.end` is
-    /// not a multiple of `time.dt` (see [`StepPlan`]).
-    pub last_step: Option<f64>,
-    /// Newton iterations (linear solves) over all steps.
-    pub newton_iterations: usize,
-    /// Numeric factorisations over the run.
-    pub factorizations: usize,
-    /// Step cut-backs.
-    pub cutbacks: usize,
-    /// Warnings the run raised (each also printed to stderr when raised): the reduced body's
-    /// when it does not apply ([`pendulum_fem_core::reduced::validity`]).
-    pub warnings: Vec<String>,
-    /// A reduced body's largest error estimate over the run and its time `(η, t)`.
-    pub error_estimate: Option<(f64, f64)>,
-    /// Final proxy angle \[rad\].
-    pub theta_final: f64,
-    /// Smallest and largest proxy angle \[rad\].
-    pub theta_range: (f64, f64),
-    /// Period from zero crossings \[s\]; `None` when the head struck a wall (see
-    /// [`RunSummary::impacts`]).
-    pub period: Option<f64>,
-    /// Largest von Mises stress over the run \[Pa\].
-    pub von_mises_max: f64,
-    /// With a wall: the impacts and the largest contact force \[N\] over the records (a restarted
-    /// run's earlier ones included) and the events' peaks between them; what a study's row reports.
-    pub contact: Option<(usize, f64)>,
-    /// With a wall: count, interval, restitution and rebound of the impacts (what the summary
-    /// reports instead of [`RunSummary::period`], which zero crossings inside the impacts spoil).
-    pub impacts: Option<ImpactSummary>,
-    /// Largest energy error over the run, `max |E(t) − E(0) − W(t)| / energy_scale` (see
-    /// [`EnergyAudit`]).
-    pub energy_error: f64,
-    /// The energy scale of the run \[J\] (see [`EnergyAudit`]).
-    pub energy_scale: f64,
-    /// Wall time: meshing \[s\].
-    pub seconds_mesh: f64,
-    /// Wall time: set-up (operators, symbolic factorisation) \[s\].
-    pub seconds_setup: f64,
-    /// Wall time: time stepping including post-processing and writing \[s\].
-    pub seconds_steps: f64,
-    /// Wall time in total \[s\].
-    pub seconds_total: f64,
-    /// Wall time spent building frames and writing ParaView files, animations, plots and the
-    /// viewer (included in `seconds_steps` and `seconds_total`) \[s\].
-    pub seconds_outputs: f64,
-    /// Solver timings.
-    pub timings: pendulum_fem_core::newton::Timings,
 }
 
 /// The main job: prepares the output folder (before computing anything), then runs with every
@@ -261,42 +131,6 @@ impl SetUp {
     }
 }
 
-impl RunSummary {
-    /// Takes a record into the run's figures: θ's range and last value, the period, the largest
-    /// von Mises stress and, with a wall, the impacts and the largest contact force (the record's
-    /// and the peaks between the records, in `events`, the contact events up to the record). The
-    /// one tally for a run's records and a restarted run's records before its checkpoint.
-    fn take_record(
-        &mut self,
-        period: &mut PeriodEstimator,
-        impacts: &mut ImpactSummary,
-        r: &StepRecord,
-        events: &[ContactEvent],
-    ) {
-        period.push(r.time, r.theta);
-        self.theta_range.0 = self.theta_range.0.min(r.theta);
-        self.theta_range.1 = self.theta_range.1.max(r.theta);
-        self.von_mises_max = self.von_mises_max.max(r.von_mises_max);
-        self.theta_final = r.theta;
-        if let Some(c) = &r.contact {
-            impacts.observe(events, r.theta);
-            let peaks = events.iter().map(|e| e.force).fold(0.0, f64::max);
-            let largest = self.contact.map_or(0.0, |(_, f)| f);
-            self.contact = Some((c.impacts, largest.max(c.force).max(peaks)));
-        }
-    }
-}
-
-/// How a run ended.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum RunEnd {
-    /// Reached `time.end`.
-    #[default]
-    Completed,
-    /// Stopped at a step boundary because [`RunOptions::stop`] was set (Ctrl-C, SIGTERM).
-    Interrupted,
-}
-
 /// Runs the simulation into `out_dir` with the observers of `opts`, calling `observe` after every
 /// record (step 0 included) with the simulation and the record.
 ///
@@ -341,89 +175,6 @@ fn run_set_up(
     written?;
     summary.files.push(status_path);
     Ok(summary)
-}
-
-/// The steps of a run along a [`StepPlan`]: step `first + i` of the simulation is the plan's
-/// `i`-th, of `dt` while `i < plan.full`, else the shortened last one that lands on `end`. The
-/// one rule of the driver's runs (restarted ones too) and the Python package's `run`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PlanSteps {
-    /// The plan.
-    pub plan: StepPlan,
-    dt: f64,
-    end: f64,
-    first: usize,
-}
-
-impl PlanSteps {
-    /// The steps of a run of `time` from step 0 at time 0 (a restarted run too: its steps keep
-    /// their numbers).
-    pub fn of(time: &Time) -> Self {
-        Self {
-            plan: StepPlan::of(time),
-            dt: time.dt,
-            end: time.end,
-            first: 0,
-        }
-    }
-
-    /// The steps from the state of `sim` now to the time `end` \[s\] in steps of `dt`.
-    pub fn from_now(sim: &Simulation, dt: f64, end: f64) -> Self {
-        let time = Time {
-            dt,
-            end: end - sim.time(),
-            ..Time::default()
-        };
-        Self {
-            plan: StepPlan::of(&time),
-            dt,
-            end,
-            first: sim.step,
-        }
-    }
-
-    /// Whether `sim` has taken every step of the plan.
-    pub fn done(&self, sim: &Simulation) -> bool {
-        sim.step >= self.first + self.plan.steps()
-    }
-
-    /// Takes the next step of the plan; returns its Newton iterations.
-    pub fn take(&self, sim: &mut Simulation) -> Result<usize, Error> {
-        match sim.step < self.first + self.plan.full {
-            true => sim.step(self.dt),
-            false => sim.step_to(self.end),
-        }
-    }
-
-    /// Walks `sim` along the plan: hands the record of the state now, then that of every step, to
-    /// `take`, and ends after the plan's last step ([`RunEnd::Completed`]) or, when `stop` says so
-    /// after a record, at that step boundary ([`RunEnd::Interrupted`]). Returns the last record
-    /// handed over and how the walk ended: the error of a step (the record before it is the last)
-    /// or of `take` ends it too.
-    pub fn walk(
-        &self,
-        sim: &mut Simulation,
-        mut take: impl FnMut(&mut Simulation, &StepRecord) -> Result<(), Error>,
-        mut stop: impl FnMut() -> bool,
-    ) -> (StepRecord, Result<RunEnd, Error>) {
-        let mut record = sim.record(sim.last_newton_iterations());
-        loop {
-            if let Err(e) = take(sim, &record) {
-                return (record, Err(e));
-            }
-            if self.done(sim) {
-                return (record, Ok(RunEnd::Completed));
-            }
-            if stop() {
-                return (record, Ok(RunEnd::Interrupted));
-            }
-            // the stepper advances; the record (with the nodal stresses) is the walk's observation
-            match self.take(sim) {
-                Ok(its) => record = sim.record(its),
-                Err(e) => return (record, Err(e)),
-            }
-        }
-    }
 }
 
 /// The run proper; `reached` follows the last step written to `results.csv` (step, time).
