@@ -10,13 +10,8 @@ use pendulum_fem_core::simulation::{ContactEvent, Simulation, StepRecord};
 use pendulum_fem_core::store::{write_atomically, Table};
 use pendulum_fem_core::{Config, Error, Snapshot};
 
+pub use crate::outdir::names::{CHECKPOINT_SNAP, CHECKPOINT_TOML};
 use crate::rows::{csv_values, event_row, records_of_table};
-
-/// The latest snapshot of a run with checkpoints ([`pendulum_fem_core::Snapshot::to_bytes`]).
-pub const CHECKPOINT_SNAP: &str = "checkpoint.snap";
-
-/// The configuration of a run with checkpoints, read by `run --restart`.
-pub const CHECKPOINT_TOML: &str = "checkpoint.toml";
 
 /// Writes the snapshot of `sim` to `dir/checkpoint.snap` atomically (a temporary file, then a
 /// rename: a run killed meanwhile leaves the previous checkpoint intact).

@@ -38,6 +38,10 @@ pub mod names {
     pub const PVD_NAME: &str = "pendulum.pvd";
     /// The folder of the ParaView frames (`step_NNNNN.vtu`).
     pub const FRAMES_DIR: &str = "frames";
+    /// The latest snapshot of a run with checkpoints ([`pendulum_fem_core::Snapshot::to_bytes`]).
+    pub const CHECKPOINT_SNAP: &str = "checkpoint.snap";
+    /// The configuration of a run with checkpoints, read by `run --restart`.
+    pub const CHECKPOINT_TOML: &str = "checkpoint.toml";
 }
 
 /// Prefix of the numbered run folders.
@@ -50,8 +54,8 @@ pub const RUN_FILES: [&str; 12] = [
     names::RESULTS_CSV,
     names::EVENTS_CSV,
     names::IMPACTS_CSV,
-    crate::checkpoint::CHECKPOINT_SNAP,
-    crate::checkpoint::CHECKPOINT_TOML,
+    names::CHECKPOINT_SNAP,
+    names::CHECKPOINT_TOML,
     crate::status::STATUS_JSON,
     names::THETA_PNG,
     names::ENERGY_PNG,
