@@ -1,6 +1,6 @@
 //! Shared fixtures of the integration tests: the repository's root, fresh scratch folders, the
 //! CLI built for the test, NaN-checking maxima, the exact rigid pendulum, deterministic fields,
-//! mesh checks and the structured fixture of the solver tests. Every test file includes it with
+//! mesh checks and the structured fixture of the solver tests. A test file includes it with
 //! `mod common;`; its submodules hold the helpers of some files only.
 #![allow(dead_code)]
 
