@@ -162,15 +162,6 @@ impl Dynamics {
         }
     }
 
-    /// Whether the nodal fields in `now` are the body's after every step: the full body's are its
-    /// unknowns; a reduced step updates only the contact nodes and rebuilds the rest on demand.
-    pub fn keeps_fields(&self) -> bool {
-        match self {
-            Self::Full(_) => true,
-            Self::Reduced(_) => false,
-        }
-    }
-
     /// Brings the fields in `now` up to the body's state, for the readers that take them from
     /// there (frames, the acceleration field).
     pub fn sync_fields(&mut self, now: &mut Now) {

@@ -38,8 +38,8 @@
 //!    converged references were met at, so the estimate only lengthens the sub-steps where the
 //!    motion is smooth at their scale (the tutorial's impact, whose force rises and falls over
 //!    2.1 ms), and keeps them short where the head's vibration takes a share of the energy (a
-//!    stiff contact). A reduced body's impacts keep `τ / contact.substeps` (its fields between
-//!    the contact nodes are made on demand, not at every sub-step).
+//!    stiff contact). A reduced body's nodal fields, made on demand, enter the same estimate, so
+//!    its impacts take the full body's sub-steps.
 //! 3. The impact ends when no point has penetrated for the time `τ` (a body ringing after the blow
 //!    may touch again at once; that is the same impact); its end time is when the largest
 //!    penetration last returned to zero. The rest of the output step follows in one step (or
@@ -182,6 +182,13 @@ impl Simulation {
             };
             let h = if remaining - h < 1e-6 * dt { remaining } else { h };
             let apart = !wall.in_contact(&s.u);
+            // inside an impact, the nodal displacement at the sub-step's start for its error
+            // estimate (a reduced body's state holds current values at the contact nodes only)
+            let fields0 = self
+                .contact
+                .phase
+                .is_some()
+                .then(|| self.body.fields(&self.now)[0].to_vec());
             let before = self.rollback_point();
             its += self.substep(h).map_err(failed)?;
             let u0 = &before.snapshot.state.u;
@@ -203,9 +210,12 @@ impl Simulation {
             }
             if self.contact.phase.is_some() {
                 self.contact_progress(u0, h);
-                self.size_substep(u0, h);
+                let fields0 = fields0.as_deref().unwrap_or(u0);
+                self.size_substep(fields0, h);
                 if self.contact.phase.is_some() {
-                    self.contact.trail.push(before.snapshot.state.t, u0, self.now.state.t);
+                    self.contact
+                        .trail
+                        .push(before.snapshot.state.t, fields0, self.now.state.t);
                 } else {
                     self.contact.trail = ImpactTrail::default();
                 }
@@ -306,16 +316,12 @@ impl Simulation {
     /// just taken (see the module doc): `e = (h²/12) ‖u⃛‖_M` against the bound
     /// `contact.substep_tolerance · v`, the next sub-step `h · 0.9 √(bound / e)`, within half and
     /// twice `h` and within `[τ / contact.substeps, τ]`. Needs the two sub-step ends of the impact
-    /// before `u0` ([`ImpactTrail`]); with fewer, the sub-step stays.
+    /// before `u0` ([`ImpactTrail`]); with fewer, the sub-step stays. `u0` is the nodal
+    /// displacement at the sub-step's start.
     fn size_substep(&mut self, u0: &[f64], h: f64) {
         let Some(phase) = self.contact.phase else {
             return;
         };
-        // the sub-step ends kept in the trail are the state's fields, a reduced body's stale
-        // away from the contact nodes: its impacts keep τ / contact.substeps
-        if !self.body.keeps_fields() {
-            return;
-        }
         let [(ta, ua), (tb, ub)] = self.contact.trail.earlier.as_slice() else {
             return;
         };
@@ -323,7 +329,7 @@ impl Simulation {
         if h < 0.999 * phase.substep {
             return;
         }
-        let (t1, u1) = (self.now.state.t, &self.now.state.u);
+        let (t1, u1) = (self.now.state.t, self.body.fields(&self.now)[0]);
         let t0 = t1 - h;
         let pendulum = 2 * self.model.bodies[0].nodes.end;
         // u⃛ ≈ 6 u[t_a, t_b, t_0, t_1], the third divided difference, on the pendulum's nodes
