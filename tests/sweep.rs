@@ -83,7 +83,7 @@ fn metrics_from_csv(run: &Path, cfg: &Config) -> [Option<f64>; 8] {
             torque_work: r[col("torque_work_J")],
             ..Default::default()
         };
-        audit.push(&record);
+        audit.push(&record).unwrap_or_else(|e| panic!("{}: {e}", run.display()));
         period.push(record.time, record.theta);
         lo = [lo, record.theta].into_iter().min_of();
         hi = [hi, record.theta].into_iter().max_of();

@@ -662,6 +662,20 @@ fn a_torque_straining_a_soft_hub_past_a_fifth_of_its_modulus_is_refused_through_
         &format!("[torque]\nprofile = \"table\"\nfile = {:?}\n", table.to_str().unwrap()),
     );
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("outside the model"));
+    // the largest torque allowed is a number however far past it the torque lies (`|M| E / σ`
+    // overflowed to NaN): 0.2 × 1e6 Pa / 6.67e5 Pa per N·m
+    for amplitude in ["-0.5", "1e300", "-1.7e308"] {
+        let out = run(
+            &format!("far{amplitude}"),
+            &format!("[torque]\nprofile = \"constant\"\namplitude = {amplitude}\n"),
+        );
+        let msg = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(
+            msg.contains("a torque of at most 0.3 N·m in magnitude"),
+            "{amplitude}: {msg}"
+        );
+        assert!(!msg.contains("NaN"), "{amplitude}: {msg}");
+    }
     // 0.27 N·m: σ = 1.8e5 Pa, below a fifth of the modulus, runs
     let out = run("within", "[torque]\nprofile = \"constant\"\namplitude = -0.27\n");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));

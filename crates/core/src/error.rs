@@ -155,6 +155,18 @@ pub enum Error {
         /// The cause and what to change.
         message: String,
     },
+    /// A quantity of a step came out NaN or infinite (see [`crate::simulation::StepRecord::check_finite`]):
+    /// no result is ever one of those, so the step is refused, as a failed step is.
+    NonFinite {
+        /// Step number (0: the initial state; else the step that would reach `t`).
+        step: usize,
+        /// Time of that state \[s\].
+        t: f64,
+        /// The quantity, named as a sentence names it ("kinetic energy").
+        quantity: &'static str,
+        /// Its value: NaN, `inf` or `-inf`.
+        value: f64,
+    },
     /// The run was stopped because it diverged (the energy watchdog of `pendulum-fem run`).
     Divergence {
         /// Step at which it was detected.
@@ -202,6 +214,18 @@ impl fmt::Display for Error {
             Self::OutsideModel { step, t, message } => {
                 write!(f, "time step {step} from t = {t:.6} s is outside the model: {message}")
             }
+            Self::NonFinite {
+                step,
+                t,
+                quantity,
+                value,
+            } => write!(
+                f,
+                "step {step} (t = {t:.6} s): the {quantity} is {value}, and no result may be NaN or infinite: the \
+                 computation left the range of floating-point numbers. Try a smaller time.dt or \
+                 time.max_rotation_deg, time.scheme = \"hht\", or inputs nearer the model's range \
+                 (initial.angular_velocity, the torque, gravity.g, the material's density and modulus)"
+            ),
             Self::Divergence { step, t, message } => write!(f, "run stopped at step {step}, t = {t} s: {message}"),
         }
     }

@@ -120,9 +120,18 @@ pub(crate) struct Now {
     pub torque_work: f64,
     /// Rigid-body measures of the current state, once computed.
     pub rates: Option<Kinematics>,
+    /// `[strain, gravity, contact]` energy of the current state \[J\], once computed (a step
+    /// checks them, the record then reads them).
+    pub energies: Option<[f64; 3]>,
 }
 
 impl Now {
+    /// Forgets what was computed of the state (it changed): its rates and energies.
+    pub fn forget_measures(&mut self) {
+        self.rates = None;
+        self.energies = None;
+    }
+
     /// The [`crate::terms::StepContext`] of the current state by itself.
     pub fn context(&self) -> crate::terms::StepContext<'_> {
         crate::terms::StepContext::at(&self.state.u, self.state.t, self.theta, self.held_torque)

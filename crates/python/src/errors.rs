@@ -1,6 +1,6 @@
 //! The module's exceptions and the one mapping of a Rust error to a Python exception: invalid input
-//! a `ValueError`, a failed step `ConvergenceError`, a step outside the model `OutsideModelError`,
-//! files `OSError`.
+//! a `ValueError`, a failed step (a state with a NaN or an infinity too) `ConvergenceError`, a step
+//! outside the model `OutsideModelError`, files `OSError`.
 
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -11,8 +11,8 @@ pyo3::create_exception!(
     pendulum_fem,
     ConvergenceError,
     pyo3::exceptions::PyRuntimeError,
-    "A time step (or the initial equilibrium) failed after every cut-back; the simulation is left \
-     exactly as before the call."
+    "A time step (or the initial equilibrium) failed after every cut-back, or reached a state with a \
+     NaN or an infinity; the simulation is left exactly as before the call."
 );
 
 pyo3::create_exception!(
@@ -27,7 +27,9 @@ pyo3::create_exception!(
 pub(crate) fn py_err(e: Error) -> PyErr {
     let message = e.to_string();
     match e {
-        Error::TimeStep { .. } | Error::InitialEquilibrium { .. } => ConvergenceError::new_err(message),
+        Error::TimeStep { .. } | Error::InitialEquilibrium { .. } | Error::NonFinite { .. } => {
+            ConvergenceError::new_err(message)
+        }
         Error::OutsideModel { .. } => OutsideModelError::new_err(message),
         Error::Io { .. } => PyOSError::new_err(message),
         Error::Config(_) | Error::Input(_) | Error::Geometry(_) | Error::Mesh(_) | Error::InvertedElement { .. } => {

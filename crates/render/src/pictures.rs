@@ -96,8 +96,9 @@ impl RunObserver for Pictures {
     }
 
     fn finish(mut self: Box<Self>, sim: &mut Simulation, last: &StepRecord) -> Result<Vec<PathBuf>, Error> {
-        // the last state is the last frame, whether the run completed, stopped or failed
-        let sent = match self.wants_frames {
+        // the last state is the last frame, whether the run completed, stopped or failed, unless
+        // its record was refused for a NaN or an infinity: no frame holds one
+        let sent = match self.wants_frames && last.first_non_finite().is_none() {
             true => self.writer.send(sim.frame_data(last.theta), true),
             false => Ok(()),
         };

@@ -1,5 +1,7 @@
 //! The energy balance of a run and its watchdog: the energy error of every record against the
-//! energy the run has available.
+//! energy the run has available. Every number it compares or takes the largest of is finite: a
+//! record or an energy error with a NaN or an infinity stops the run ([`EnergyAudit::push`]),
+//! whatever `output.energy_watchdog` says.
 
 use pendulum_fem_core::simulation::StepRecord;
 use pendulum_fem_core::Error;
@@ -50,15 +52,32 @@ impl EnergyAudit {
         Self::new(model.energy_floor(), model.potential_range())
     }
 
-    /// Takes the next record; returns its energy error judged with the scale so far.
-    pub fn push(&mut self, r: &StepRecord) -> f64 {
-        let first = self.first.get_or_insert_with(|| r.clone());
-        self.largest_work = self.largest_work.max(r.torque_work.abs());
-        let available = first.kinetic.abs() + self.potential + self.largest_work;
-        self.scale = self.floor.max(available);
+    /// Takes the next record; returns its energy error judged with the scale so far, a finite
+    /// number. A record with a NaN or an infinity ([`StepRecord::check_finite`]), or whose energy
+    /// error or scale overflows, is refused with [`Error::NonFinite`] and leaves the audit as it
+    /// was: the largest values here (`f64::max` drops a NaN) and the watchdog's comparison
+    /// (`error > limit` is false for NaN) see finite numbers only.
+    pub fn push(&mut self, r: &StepRecord) -> Result<f64, Error> {
+        r.check_finite()?;
+        let first = self.first.as_ref().unwrap_or(r);
+        let largest_work = self.largest_work.max(r.torque_work.abs());
+        let scale = self.floor.max(first.kinetic.abs() + self.potential + largest_work);
         let defect = (r.total - first.total - r.torque_work).abs();
+        let overflow = [("energy scale", scale), ("energy error", defect / scale)]
+            .into_iter()
+            .find(|(_, v)| !v.is_finite());
+        if let Some((quantity, value)) = overflow {
+            return Err(Error::NonFinite {
+                step: r.step,
+                t: r.time,
+                quantity,
+                value,
+            });
+        }
+        self.first.get_or_insert_with(|| r.clone());
+        (self.largest_work, self.scale) = (largest_work, scale);
         self.largest_defect = self.largest_defect.max(defect);
-        defect / self.scale
+        Ok(defect / scale)
     }
 
     /// The floor of the energy scale \[J\].
@@ -98,5 +117,69 @@ impl EnergyAudit {
                 r.gravity
             ),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A record of a swing at step `step`: total energy `total`, no torque.
+    fn record(step: usize, total: f64) -> StepRecord {
+        StepRecord {
+            step,
+            time: step as f64 / 100.0,
+            kinetic: 0.5,
+            gravity: total - 0.5,
+            total,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn a_nan_energy_is_refused_naming_step_time_and_quantity_and_leaves_the_audit_as_it_was() {
+        let mut audit = EnergyAudit::new(1e-3, 2.0);
+        assert_eq!(audit.push(&record(0, -1.0)).unwrap(), 0.0);
+        assert_eq!(audit.push(&record(1, -1.25)).unwrap(), 0.25 / 2.5);
+        let (error, scale) = (audit.error(), audit.scale());
+        for (quantity, value) in [("total energy", f64::NAN), ("torque's work", f64::INFINITY)] {
+            let mut r = record(41, -1.0);
+            match quantity {
+                "total energy" => r.total = value,
+                _ => r.torque_work = value,
+            }
+            match audit.push(&r) {
+                Err(Error::NonFinite {
+                    step: 41,
+                    t,
+                    quantity: q,
+                    ..
+                }) if t == 0.41 && q == quantity => {}
+                other => panic!("{quantity} = {value}: {other:?}"),
+            }
+            // the largest error is a number and the one before: f64::max would have dropped the NaN
+            assert_eq!((audit.error(), audit.scale()), (error, scale), "{quantity}");
+        }
+    }
+
+    #[test]
+    fn an_energy_error_that_overflows_is_refused_though_every_energy_is_finite() {
+        let mut audit = EnergyAudit::new(1e-3, 2.0);
+        audit.push(&record(0, -f64::MAX)).unwrap();
+        // ΔE = MAX − (−MAX) overflows
+        let message = audit.push(&record(1, f64::MAX)).unwrap_err().to_string();
+        assert!(
+            message.starts_with("step 1 (t = 0.010000 s): the energy error is inf"),
+            "{message}"
+        );
+        assert_eq!(audit.error(), 0.0, "the refused record is not in the audit");
+    }
+
+    #[test]
+    fn a_record_refused_first_is_not_the_reference_of_the_next() {
+        let mut audit = EnergyAudit::new(1e-3, 2.0);
+        audit.push(&record(0, f64::NAN)).unwrap_err();
+        // the first record taken is the reference: no error against itself
+        assert_eq!(audit.push(&record(1, -1.0)).unwrap(), 0.0);
     }
 }

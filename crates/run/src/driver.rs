@@ -273,7 +273,7 @@ fn run_steps(
         let events = sim.contact_events();
         let seen = &events[..events.partition_point(|e| e.time <= r.time)];
         summary.take_record(&mut period, &mut impacts, r, seen);
-        audit.push(r);
+        audit.push(r)?;
     }
     // a restarted run's first record (the checkpoint's) is in results.csv and the frames already
     let mut resumed = checkpoint.is_some();
@@ -311,7 +311,8 @@ fn run_steps(
             seconds_outputs += t_out.elapsed().as_secs_f64();
             observe(sim, record)?;
             summary.take_record(&mut period, &mut impacts, record, sim.contact_events());
-            let error = audit.push(record);
+            // a finite error: a NaN or an infinity stopped the run already, watchdog or not
+            let error = audit.push(record)?;
             if cfg.output.energy_watchdog > 0.0 && error > cfg.output.energy_watchdog {
                 return Err(audit.divergence(record, cfg.output.energy_watchdog));
             }

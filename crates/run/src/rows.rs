@@ -344,6 +344,28 @@ mod tests {
     }
 
     #[test]
+    fn a_nan_in_any_column_of_results_csv_but_the_time_and_the_counts_is_a_record_refused() {
+        // the time is the clock's, the counts are integers: every other column is a result
+        let unchecked = ["time_s", "newton_iterations", "impacts"];
+        record(true).check_finite().unwrap();
+        let mut checked = 0;
+        for (k, name) in header(true).split(',').enumerate() {
+            let mut r = record(true);
+            match COLUMNS.get(k) {
+                Some(column) => (column.set)(&mut r, f64::NAN),
+                None => (CONTACT_COLUMNS[k - COLUMNS.len()].set)(r.contact.as_mut().unwrap(), f64::NAN),
+            }
+            if unchecked.contains(&name) {
+                continue;
+            }
+            assert!(r.first_non_finite().is_some(), "a NaN in {name} passes");
+            assert!(r.check_finite().is_err(), "{name}");
+            checked += 1;
+        }
+        assert_eq!(checked, 16);
+    }
+
+    #[test]
     fn the_header_names_the_columns_in_the_order_of_the_values() {
         let names: Vec<String> = header(true).split(',').map(str::to_string).collect();
         let values = csv_values(&record(true));

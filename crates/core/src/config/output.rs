@@ -31,7 +31,8 @@ pub struct Output {
     /// Upper bound on frames in the animations and the viewer (frames are thinned to fit).
     pub max_frames: usize,
     /// The run stops with an error when the energy error (energy change minus the work of the
-    /// torque, over the energy scale) exceeds this fraction; 0 switches the watchdog off.
+    /// torque, over the energy scale) exceeds this fraction; 0 switches the watchdog off (a NaN or
+    /// an infinity stops a run all the same).
     pub energy_watchdog: f64,
 }
 

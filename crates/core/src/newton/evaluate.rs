@@ -6,10 +6,16 @@ use super::{NewtonSettings, Solver, FORCE_ROUNDING, REFACTOR_CONTRACTION, ROUNDI
 use crate::assembly::Pattern;
 use crate::terms::{StepContext, Term};
 
+/// The residual's norm `‖g + Cᵀλ‖∞`, NaN when a component is NaN: `f64::max` drops a NaN, and a
+/// residual with one would pass for the largest of its other components, within the bound. No
+/// comparison with a bound holds for NaN, so no state with one is taken as converged.
 pub(super) fn residual_norm_of(g: &[f64], rows: &[Vec<f64>; 2], lam: [f64; 2]) -> f64 {
     (0..g.len())
         .map(|i| (g[i] + rows[0][i] * lam[0] + rows[1][i] * lam[1]).abs())
-        .fold(0.0, f64::max)
+        .fold(0.0, |largest, x| match x > largest || x.is_nan() {
+            true => x,
+            false => largest,
+        })
 }
 
 impl Solver {
@@ -108,5 +114,27 @@ impl Solver {
         }
         self.fixed.apply_vector(&mut self.g);
         self.timings.residual += start.elapsed().as_secs_f64();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::residual_norm_of;
+
+    #[test]
+    fn a_nan_component_makes_the_residual_norm_nan_wherever_it_stands() {
+        let rows = [vec![0.0; 3], vec![0.0; 3]];
+        for g in [[f64::NAN, 1e-9, 0.0], [1e-9, f64::NAN, 0.0], [1e-9, 0.0, f64::NAN]] {
+            let r = residual_norm_of(&g, &rows, [0.0; 2]);
+            assert!(r.is_nan() && r.partial_cmp(&1.0).is_none(), "{g:?}: norm {r}");
+        }
+        // the multipliers' part too, and an infinity is the norm
+        let rows = [vec![1.0, 0.0, 0.0], vec![0.0; 3]];
+        assert!(residual_norm_of(&[0.0; 3], &rows, [f64::NAN, 0.0]).is_nan());
+        assert_eq!(
+            residual_norm_of(&[-2.0, f64::NEG_INFINITY, 3.0], &rows, [0.0; 2]),
+            f64::INFINITY
+        );
+        assert_eq!(residual_norm_of(&[-2.0, 0.5, 1.0], &rows, [0.0; 2]), 2.0);
     }
 }

@@ -53,6 +53,7 @@ impl Simulation {
                 held_torque: None,
                 torque_work: 0.0,
                 rates: None,
+                energies: None,
             },
             body,
             contact: Impacts::default(),
@@ -72,11 +73,12 @@ impl Simulation {
     }
 
     /// Sets the initial state of the configuration (with the current torque input): the rigid
-    /// motion, the hinge force of its balance of linear momentum, the body's own initial state.
+    /// motion, the hinge force of its balance of linear momentum, the body's own initial state;
+    /// [`Error::NonFinite`] if a quantity of it is NaN or infinite.
     pub(super) fn initialize(&mut self) -> Result<(), Error> {
         let (m, now) = (&self.model, &mut self.now);
         now.state = m.initial_state(now.held_torque);
-        now.rates = None;
+        now.forget_measures();
         // the branch of the hub angle: the initial angle
         now.theta = m.config.initial.angle_deg.to_radians();
         // The multipliers of the initial state from the balance of linear momentum:
@@ -95,7 +97,8 @@ impl Simulation {
         let theta0 = m.projection.angle(&now.state.u);
         now.unwrap = Unwrap::starting_at(theta0);
         now.theta = theta0;
-        Ok(())
+        // step 0 by the rule of every step's end (`levels`): no quantity NaN or infinite
+        self.check_finite(self.contact.records.len())
     }
 }
 

@@ -1,5 +1,5 @@
 //! The levels of a step, from the top: the **output step** of length `Δt` (its clock, θ, the
-//! roll-back of a failure), its **impact resolution** (`impact`) or its split into equal
+//! check that every quantity of the state it reached is finite, the roll-back of a failure), its **impact resolution** (`impact`) or its split into equal
 //! **sub-steps** by the predicted rotation, and each sub-step's **attempts**: the body's step,
 //! halved on failure as `solver.max_cutbacks` allows ([`crate::config::Cutbacks`]).
 //!
@@ -16,7 +16,7 @@
 //! again at its full length.
 
 use super::pool::on_pool;
-use super::{Clock, Simulation};
+use super::{Clock, Simulation, StepRecord};
 use crate::error::Error;
 use crate::error::NewtonError;
 
@@ -41,6 +41,7 @@ impl Simulation {
     /// [`Simulation::output_step`] on the calling thread.
     fn output_step_here(&mut self, dt: f64, clock: Clock) -> Result<usize, Error> {
         let before = self.rollback_point();
+        let records = self.contact.records.len();
         match self.substeps(dt) {
             Ok(its) => {
                 self.clock = clock;
@@ -50,6 +51,10 @@ impl Simulation {
                 // what the next step starts from, made here (on the pool): the outputs read
                 // between two steps then cost no pass of their own
                 self.body.after_output_step(&self.model, &mut self.now, self.step);
+                if let Err(e) = self.check_finite(records) {
+                    self.roll_back(&before);
+                    return Err(e);
+                }
                 Ok(its)
             }
             Err(e) => {
@@ -57,6 +62,18 @@ impl Simulation {
                 Err(self.outside_model(e, dt))
             }
         }
+    }
+
+    /// The state an output step reached, checked by the rule of [`StepRecord::check_finite`]:
+    /// the records of the sub-steps it took inside impacts (from `records` on), then its own
+    /// record without the nodal stresses (a step computes none; the run driver checks the
+    /// records it writes, stresses included). Its rates and energies are what the next step and
+    /// the outputs read anyway.
+    pub(super) fn check_finite(&mut self, records: usize) -> Result<(), Error> {
+        self.contact.records[records..]
+            .iter()
+            .try_for_each(StepRecord::check_finite)?;
+        self.record_without_stress(self.last_iterations).check_finite()
     }
 
     /// A failed step's error, or the cause outside the model that explains it: the head's rigid
@@ -162,5 +179,51 @@ impl Simulation {
         let taken = self.body.step(&self.model, &mut self.now, dt, &ask)?;
         self.total_factorizations += taken.factorizations;
         Ok(taken.iterations)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::config::{Config, InitialAcceleration};
+    use crate::error::Error;
+    use crate::simulation::Simulation;
+
+    #[test]
+    fn a_step_to_a_state_with_an_infinite_quantity_fails_naming_it_and_changes_nothing() {
+        let config = Config::default();
+        let dt = config.time.dt;
+        let mut sim = Simulation::build(&config).unwrap().simulation;
+        sim.step(dt).unwrap();
+        // the torque's work is summed over the steps and read by none of their equations: an
+        // infinite one reaches the next state as it is, and the step then refuses that state
+        sim.now.torque_work = f64::INFINITY;
+        let before = sim.snapshot();
+        match sim.step(dt) {
+            Err(Error::NonFinite {
+                step: 2,
+                t,
+                quantity: "torque's work",
+                value,
+            }) if t == 2.0 * dt && value == f64::INFINITY => {}
+            other => panic!("{other:?}"),
+        }
+        assert!(sim.snapshot() == before, "the refused step changed the state");
+    }
+
+    #[test]
+    fn an_initial_state_with_a_nan_is_refused_at_the_set_up_as_step_0() {
+        let mut config = Config::default();
+        // finite, so the configuration is valid; squared in the kinetic energy, it is not
+        config.initial.angular_velocity = 1e200;
+        config.initial.acceleration = InitialAcceleration::Zero;
+        match Simulation::build(&config).map(|_| ()) {
+            Err(Error::NonFinite {
+                step: 0,
+                t: 0.0,
+                quantity: "kinetic energy",
+                value,
+            }) if value.is_nan() => {}
+            other => panic!("{other:?}"),
+        }
     }
 }

@@ -1,9 +1,16 @@
 //! The output records of a [`Simulation`](super::Simulation): a row of `results.csv`
 //! ([`StepRecord`], with its contact columns [`ContactRecord`]) and the nodal fields of a written
 //! frame ([`Frame`], [`FrameData`]).
+//!
+//! **No result is NaN or infinite.** Every quantity of a record is a finite number, or the record
+//! is refused with [`Error::NonFinite`] naming its step, time and the first quantity that is not
+//! ([`StepRecord::check_finite`]): the one rule, which the stepper applies to every state it
+//! reaches ([`Simulation::step`](super::Simulation::step)) and the run driver to every record it
+//! writes.
 
 #[cfg(doc)]
 use super::Model;
+use crate::error::Error;
 use crate::post::NodalStress;
 
 /// One row of `results.csv`.
@@ -42,6 +49,58 @@ pub struct StepRecord {
     pub angular_momentum: f64,
     /// The contact with the wall, when the model has one.
     pub contact: Option<ContactRecord>,
+}
+
+impl StepRecord {
+    /// Every quantity of the record with its name, in the order of the columns of `results.csv`:
+    /// its results, not its step and time (the clock's, from steps of a finite length) nor its
+    /// counts.
+    pub fn quantities(&self) -> impl Iterator<Item = (&'static str, f64)> + '_ {
+        let contact = self.contact.iter().flat_map(|c| {
+            [
+                ("contact gap", c.gap),
+                ("contact force", c.force),
+                ("contact energy", c.energy),
+            ]
+        });
+        [
+            ("proxy angle θ", self.theta),
+            ("angular velocity ω", self.omega),
+            ("angular acceleration α", self.alpha),
+            ("kinetic energy", self.kinetic),
+            ("strain energy", self.strain),
+            ("gravitational energy", self.gravity),
+            ("total energy", self.total),
+            ("hinge force's x component", self.hinge_force[0]),
+            ("hinge force's y component", self.hinge_force[1]),
+            ("largest von Mises stress", self.von_mises_max),
+            ("torque", self.torque),
+            ("torque's work", self.torque_work),
+            ("angular momentum", self.angular_momentum),
+        ]
+        .into_iter()
+        .chain(contact)
+    }
+
+    /// The first quantity of the record (in the order of [`StepRecord::quantities`]) that is NaN
+    /// or infinite, with its value; `None` when all are finite.
+    pub fn first_non_finite(&self) -> Option<(&'static str, f64)> {
+        self.quantities().find(|(_, v)| !v.is_finite())
+    }
+
+    /// The record, checked: [`Error::NonFinite`] names its step, its time and the first quantity
+    /// that is NaN or infinite (see the module doc).
+    pub fn check_finite(&self) -> Result<(), Error> {
+        match self.first_non_finite() {
+            None => Ok(()),
+            Some((quantity, value)) => Err(Error::NonFinite {
+                step: self.step,
+                t: self.time,
+                quantity,
+                value,
+            }),
+        }
+    }
 }
 
 /// The contact columns of a [`StepRecord`].
@@ -110,6 +169,83 @@ impl FrameData {
             acceleration: &self.acceleration,
             von_mises: &self.stress.von_mises,
             cauchy: &self.stress.cauchy,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A record with a distinct finite value in every quantity, with the contact columns.
+    fn record() -> StepRecord {
+        StepRecord {
+            step: 41,
+            time: 0.41,
+            theta: 1.0,
+            omega: 2.0,
+            alpha: 3.0,
+            kinetic: 4.0,
+            strain: 5.0,
+            gravity: 6.0,
+            total: 7.0,
+            hinge_force: [8.0, 9.0],
+            von_mises_max: 10.0,
+            newton_iterations: 3,
+            torque: 11.0,
+            torque_work: 12.0,
+            angular_momentum: 13.0,
+            contact: Some(ContactRecord {
+                gap: 14.0,
+                force: 15.0,
+                energy: 16.0,
+                impacts: 2,
+            }),
+        }
+    }
+
+    #[test]
+    fn each_quantity_that_is_nan_or_infinite_is_the_one_the_error_names_with_step_and_time() {
+        let clean = record();
+        assert_eq!(clean.first_non_finite(), None);
+        clean.check_finite().unwrap();
+        let names: Vec<_> = clean.quantities().map(|(name, _)| name).collect();
+        assert_eq!(names.len(), 16, "13 quantities and the 3 of the contact: {names:?}");
+        // the values are distinct: a value of the list finds its field
+        for (name, value) in clean.quantities() {
+            for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                let mut r = clean.clone();
+                let [hx, hy] = &mut r.hinge_force;
+                let slot = [
+                    &mut r.theta,
+                    &mut r.omega,
+                    &mut r.alpha,
+                    &mut r.kinetic,
+                    &mut r.strain,
+                    &mut r.gravity,
+                    &mut r.total,
+                    hx,
+                    hy,
+                    &mut r.von_mises_max,
+                    &mut r.torque,
+                    &mut r.torque_work,
+                    &mut r.angular_momentum,
+                ]
+                .into_iter()
+                .chain(
+                    r.contact
+                        .iter_mut()
+                        .flat_map(|c| [&mut c.gap, &mut c.force, &mut c.energy]),
+                )
+                .find(|v| **v == value)
+                .expect("the value is a field's");
+                *slot = bad;
+                assert_eq!(r.first_non_finite().map(|(n, _)| n), Some(name), "{name} = {bad}");
+                let message = r.check_finite().unwrap_err().to_string();
+                let expected = format!("step 41 (t = 0.410000 s): the {name} is {bad}");
+                assert!(message.starts_with(&expected), "{message}");
+                assert!(message.contains("time.dt"), "says what to try: {message}");
+            }
         }
     }
 }

@@ -129,7 +129,7 @@ impl Reduced {
         self.state = r;
         self.fields_stale = false;
         self.lazy_fields = OnceLock::new();
-        now.rates = None;
+        now.forget_measures();
         self.validity = Validity::default();
         self.check_validity(model, now.state.t);
     }
@@ -260,7 +260,7 @@ impl Reduced {
         self.lazy_fields = OnceLock::new();
         now.state.t = t0 + h;
         self.state = r1;
-        now.rates = None;
+        now.forget_measures();
         // the branch of θ for the next (sub)step's context
         now.theta = now.unwrap.next(self.body.proxy_angle(&self.state));
         if self.validity.due(self.body.strain(&self.state.q)) {

@@ -198,7 +198,7 @@ impl Simulation {
         now.theta = s.theta;
         now.unwrap = Unwrap::starting_at(s.theta);
         now.held_torque = s.held_torque;
-        now.rates = None;
+        now.forget_measures();
         self.step = s.step;
         self.total_iterations = s.total_iterations;
         self.total_factorizations = s.total_factorizations;

@@ -10,6 +10,10 @@
 //!   determines later steps is put back as it was before the call (fields, multipliers, counters,
 //!   the unwrapping branch of θ, the previous α, the torque's work, the held torque, and the solver's reusable factorisation), and the error is returned: calling
 //!   again with a smaller `dt` is the same as having called with it in the first place.
+//! * **No state with a NaN or an infinity.** A step whose state has a quantity of its record
+//!   (the stresses aside) that is NaN or infinite fails so too, with [`Error::NonFinite`] naming
+//!   it ([`StepRecord::check_finite`]); so does the set-up of an initial state with one. The
+//!   outputs on request of a state that a step or the set-up reached are finite.
 //! * **Inputs held between steps**: [`Simulation::set_torque`] replaces the `[torque]` profile by a
 //!   value held until it is set again (a zero-order hold: the step uses it from its start to its end).
 //! * **Outputs on request**: [`Simulation::time`], [`Simulation::theta`],
@@ -45,7 +49,8 @@ pub struct Energies {
 impl Simulation {
     /// Advances the state by `dt` \[s\] (any finite `dt > 0`) and returns the Newton iterations of
     /// the step. On failure the state is exactly as before the call (see the module doc) and the
-    /// error ([`Error::TimeStep`]) is returned; `dt` out of range is [`Error::Input`].
+    /// error ([`Error::TimeStep`], or [`Error::NonFinite`] for a state with a NaN or an infinity)
+    /// is returned; `dt` out of range is [`Error::Input`].
     pub fn step(&mut self, dt: f64) -> Result<usize, Error> {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(Error::Input(format!(
@@ -108,7 +113,7 @@ impl Simulation {
         torque.check_input(value, c.geometry.thickness, c.material.youngs_modulus)?;
         let before = (self.step == 0).then(|| self.rollback_point());
         self.now.held_torque = Some(value);
-        self.now.rates = None;
+        self.now.forget_measures();
         if let Some(before) = before {
             // an input set before the first step is part of the initial state (its rigid
             // acceleration and elastic equilibrium), as a configured torque would be; if that
@@ -150,9 +155,14 @@ impl Simulation {
     }
 
     /// The energies of the current state with its kinetic energy \[J\] already computed: the one
-    /// definition of the total energy, for [`Simulation::energies`] and the records.
-    pub(super) fn energies_with(&self, kinetic: f64) -> Energies {
-        let [strain, gravity, contact] = self.body.energies(&self.model, &self.now);
+    /// definition of the total energy, for [`Simulation::energies`] and the records. The
+    /// potential energies are computed once for a state (the strain energy's two ways, from the
+    /// start data or the fields, give the same bits).
+    pub(super) fn energies_with(&mut self, kinetic: f64) -> Energies {
+        let [strain, gravity, contact] = match self.now.energies {
+            Some(energies) => energies,
+            None => *self.now.energies.insert(self.body.energies(&self.model, &self.now)),
+        };
         Energies {
             kinetic,
             strain,

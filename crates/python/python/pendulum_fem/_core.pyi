@@ -10,8 +10,8 @@ __version__: str
 
 
 class ConvergenceError(RuntimeError):
-    """A time step (or the initial equilibrium) failed after every cut-back; the simulation is
-    left exactly as before the call."""
+    """A time step (or the initial equilibrium) failed after every cut-back, or reached a state
+    with a NaN or an infinity; the simulation is left exactly as before the call."""
 
 
 class OutsideModelError(RuntimeError):

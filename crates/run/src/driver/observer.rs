@@ -49,7 +49,9 @@ pub trait RunObserver {
         Ok(())
     }
 
-    /// The run has ended at `last` (the last state computed); returns the files written.
+    /// The run has ended at `last` (the last state computed; a record never taken when the run
+    /// ended on a NaN or an infinity in it, [`StepRecord::first_non_finite`]); returns the files
+    /// written.
     fn finish(self: Box<Self>, sim: &mut Simulation, last: &StepRecord) -> Result<Vec<PathBuf>, Error>;
 }
 

@@ -61,8 +61,10 @@ impl PlanSteps {
     /// Walks `sim` along the plan: hands the record of the state now, then that of every step, to
     /// `take`, and ends after the plan's last step ([`RunEnd::Completed`]) or, when `stop` says so
     /// after a record, at that step boundary ([`RunEnd::Interrupted`]). Returns the last record
-    /// handed over and how the walk ended: the error of a step (the record before it is the last)
-    /// or of `take` ends it too.
+    /// and how the walk ended: the error of a step (the record before it is the last) or of `take`
+    /// ends it too, and so does a record with a NaN or an infinity, which is never handed over
+    /// ([`StepRecord::check_finite`]: the stepper checks every state it reaches but the stresses,
+    /// which the record adds; that record, of the state `sim` is in, is then the last).
     pub fn walk(
         &self,
         sim: &mut Simulation,
@@ -71,7 +73,7 @@ impl PlanSteps {
     ) -> (StepRecord, Result<RunEnd, Error>) {
         let mut record = sim.record(sim.last_newton_iterations());
         loop {
-            if let Err(e) = take(sim, &record) {
+            if let Err(e) = record.check_finite().and_then(|()| take(sim, &record)) {
                 return (record, Err(e));
             }
             if self.done(sim) {

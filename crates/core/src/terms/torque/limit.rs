@@ -56,8 +56,9 @@ impl Torque {
     fn hub_stress_excess(&self, m: f64, thickness: f64, youngs_modulus: f64) -> Option<String> {
         let stress = self.edge_stress(m, thickness);
         (stress > HUB_STRESS_LIMIT * youngs_modulus).then(|| {
-            // the largest torque allowed, to 4 significant digits
-            let largest = m.abs() * HUB_STRESS_LIMIT * youngs_modulus / stress;
+            // the largest torque allowed, to 4 significant digits, from the stress of a unit torque
+            // (the edge's geometry alone, finite whatever `m`: `|m| E / stress` overflows to NaN)
+            let largest = HUB_STRESS_LIMIT * youngs_modulus / self.edge_stress(1.0, thickness);
             let digits = 10f64.powi(3 - largest.log10().floor() as i32);
             let largest = (largest * digits).round() / digits;
             format!(
