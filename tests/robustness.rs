@@ -874,3 +874,17 @@ fn ledger_dates_are_utc_calendar_dates() {
     assert_eq!(ledger::utc(1_709_251_199), "2024-02-29T23:59:59Z");
     assert_eq!(ledger::utc(4_107_546_123), "2100-03-01T01:02:03Z");
 }
+
+#[test]
+fn a_campaign_rewrites_the_readmes_quoted_count_and_no_other_line() {
+    let path = common::scratch("quote").join("README.md");
+    let text = format!("# Ledger\n\n{}**0**.\n\nThat is the sum.\n", ledger::QUOTE);
+    std::fs::write(&path, &text).unwrap();
+    assert_eq!(ledger::quoted(&path), Ok(0));
+    ledger::quote(&path, 420).unwrap();
+    assert_eq!(ledger::quoted(&path), Ok(420));
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        text.replace("**0**", "**420**")
+    );
+}

@@ -560,7 +560,7 @@ pub fn quoted(path: &Path) -> Result<usize, String> {
 }
 
 /// Sets the count the README at `path` quotes to `count`.
-fn quote(path: &Path, count: usize) -> Result<(), String> {
+pub fn quote(path: &Path, count: usize) -> Result<(), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut out = String::new();
     for line in text.lines() {
