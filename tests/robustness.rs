@@ -36,8 +36,16 @@
 //! (as a campaign: every case asserted). Each failing case is printed as a configuration file that
 //! `pendulum-fem run --config FILE` runs. The campaign prints the distribution of Newton
 //! iterations per step and of cut-backs per case.
+//!
+//! `ROBUST_MACHINE=alone` gives each case [`ALONE_SECONDS`] (the machine runs nothing but the
+//! campaign), `shared` [`CASE_SECONDS`] (other work beside it), which is also the limit without
+//! it. `ROBUST_LEDGER=1` (with `ROBUST_CASES`, `ROBUST_SEED` and `ROBUST_MACHINE`) records the
+//! campaign in the ledger `tests/campaign/ledger.csv` ([`ledger`]; `scripts/campaign` runs one):
+//! a seed never run before, refused otherwise.
 
 mod common;
+#[path = "robustness/ledger.rs"]
+mod ledger;
 use common::Extremes;
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -53,8 +61,21 @@ use pendulum_fem::Config;
 const CI_CASES: usize = 12;
 
 /// Wall time after which a case counts as hanging \[s\]: far above what a passing case of the CI
-/// range needs beside a second case.
+/// range needs beside a second case; a campaign's limit on a machine shared with other work
+/// (`ROBUST_MACHINE=shared`).
 const CASE_SECONDS: u64 = 120;
+
+/// The wall time a case of a campaign that has the machine to itself may take \[s\]
+/// (`ROBUST_MACHINE=alone`).
+const ALONE_SECONDS: u64 = 60;
+
+/// The version of [`draw`]'s draws, named in a ledger row: a new one whenever what a seed draws
+/// changes.
+const DRAWS: &str = "v1";
+
+/// Seeds whose cases the program was worked on against (the CI range's seed and those of earlier
+/// campaigns): no blind sample, so no ledger campaign draws them.
+const WORKED_SEEDS: &[u64] = &[17, 18, 20, 24, 25];
 
 /// The wall time a known open case ([`KNOWN_OPEN`]) gets in the CI range \[s\]: enough to show
 /// whether it fails without spending CI's time on an outcome that is not asserted; one that
@@ -105,6 +126,8 @@ fn sig(x: f64) -> f64 {
 struct Case {
     index: usize,
     toml: String,
+    /// `none`, `rigid` or `deformable`.
+    wall: &'static str,
     /// The head radius and thickness \[m\] and contact stiffness \[N/m³\] (with a wall).
     contact: Option<(f64, f64, f64)>,
 }
@@ -217,7 +240,12 @@ fn draw(seed: u64, index: usize) -> Case {
             toml.push('\n');
         }
     }
-    Case { index, toml, contact }
+    Case {
+        index,
+        toml,
+        wall,
+        contact,
+    }
 }
 
 /// Cases of seed 17 in the CI range that do not pass reliably within [`CASE_SECONDS`] beside a
@@ -261,6 +289,30 @@ fn accepted_error(message: &str) -> bool {
             || message.contains("come round the face's end"))
 }
 
+/// Why a case failed: the outcome recorded in the ledger's runs file and the description printed.
+struct Failed {
+    outcome: ledger::Outcome,
+    why: String,
+}
+
+impl Failed {
+    fn new(outcome: ledger::Outcome, why: String) -> Failed {
+        Failed { outcome, why }
+    }
+}
+
+impl From<String> for Failed {
+    fn from(why: String) -> Failed {
+        Failed::new(ledger::Outcome::Error, why)
+    }
+}
+
+impl From<&str> for Failed {
+    fn from(why: &str) -> Failed {
+        why.to_string().into()
+    }
+}
+
 /// What one case measured.
 #[derive(Default)]
 struct Measured {
@@ -273,9 +325,8 @@ struct Measured {
     seconds: f64,
 }
 
-/// Runs `case`, stopping it after `limit` seconds of wall time; `Err` with a description of what
-/// failed.
-fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured, String> {
+/// Runs `case`, stopping it after `limit` seconds of wall time; `Err` with what failed.
+fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured, Failed> {
     let config = Config::from_toml_str(&case.toml).map_err(|e| format!("configuration refused: {e}"))?;
     let out = root.join(format!("case-{}", case.index));
     let stop = Arc::new(AtomicBool::new(false));
@@ -302,9 +353,12 @@ fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured,
     });
     let summary: RunSummary = match result {
         Ok(s) if s.end == RunEnd::Interrupted => {
-            return Err(format!(
-                "not finished after {limit} s of wall time (stopped at t = {} s, {} steps, {} cut-backs)",
-                s.time_reached, s.steps, s.cutbacks
+            return Err(Failed::new(
+                ledger::Outcome::Late,
+                format!(
+                    "not finished after {limit} s of wall time (stopped at t = {} s, {} steps, {} cut-backs)",
+                    s.time_reached, s.steps, s.cutbacks
+                ),
             ))
         }
         Ok(s) => s,
@@ -314,26 +368,32 @@ fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured,
                 ..Default::default()
             })
         }
-        Err(e) => return Err(format!("the run failed: {e}")),
+        Err(e) => return Err(format!("the run failed: {e}").into()),
     };
     let seconds = started.elapsed().as_secs_f64();
     // the stop is seen between steps: a run whose last step ends past the limit finishes, but late
     if seconds > limit as f64 {
-        return Err(format!(
-            "finished only after {seconds:.1} s of wall time (limit {limit} s; {} steps, {} cut-backs)",
-            summary.steps, summary.cutbacks
+        return Err(Failed::new(
+            ledger::Outcome::Late,
+            format!(
+                "finished only after {seconds:.1} s of wall time (limit {limit} s; {} steps, {} cut-backs)",
+                summary.steps, summary.cutbacks
+            ),
         ));
     }
     let (names, rows) = Table::read(&out.join("results.csv"))
         .map(|t| (t.names, t.rows))
         .map_err(|e| e.to_string())?;
     if let Some((i, _)) = rows.iter().enumerate().find(|(_, r)| r.iter().any(|x| x.is_nan())) {
-        return Err(format!("NaN in results.csv row {i}"));
+        return Err(Failed::new(ledger::Outcome::Nan, format!("NaN in results.csv row {i}")));
     }
     if summary.energy_error > ENERGY_BAR || !summary.energy_error.is_finite() {
-        return Err(format!(
-            "energy balance {:.3e} of the available energy {:.4e} J (bar {ENERGY_BAR})",
-            summary.energy_error, summary.energy_scale
+        return Err(Failed::new(
+            ledger::Outcome::Energy,
+            format!(
+                "energy balance {:.3e} of the available energy {:.4e} J (bar {ENERGY_BAR})",
+                summary.energy_error, summary.energy_scale
+            ),
         ));
     }
     if let Some((radius, thickness, k)) = case.contact {
@@ -357,8 +417,9 @@ fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured,
             }
         }
         if deepest > bound {
-            return Err(format!(
-                "largest penetration {deepest:.3e} m above the bound {bound:.3e} m of the contact stiffness"
+            return Err(Failed::new(
+                ledger::Outcome::Penetration,
+                format!("largest penetration {deepest:.3e} m above the bound {bound:.3e} m of the contact stiffness"),
             ));
         }
     }
@@ -373,6 +434,26 @@ fn run_case(case: &Case, root: &std::path::Path, limit: u64) -> Result<Measured,
         seconds,
         outside: None,
     })
+}
+
+/// The ledger campaign of `seed` from case `first` (`ROBUST_LEDGER=1`): a range of cases of a seed
+/// never run before, neither the CI range's nor a worked seed ([`WORKED_SEEDS`]), on a machine
+/// whose sharing is stated.
+fn start_ledger_campaign(seed: u64, first: usize, machine: Option<ledger::Machine>, only: bool) -> ledger::Campaign {
+    assert!(
+        !only,
+        "ROBUST_LEDGER records a range of cases: ROBUST_ONLY's chosen cases make no campaign"
+    );
+    assert!(
+        std::env::var_os("ROBUST_CASES").is_some() && std::env::var_os("ROBUST_SEED").is_some(),
+        "ROBUST_LEDGER needs ROBUST_CASES and ROBUST_SEED"
+    );
+    let machine = machine.expect("ROBUST_LEDGER needs ROBUST_MACHINE=alone or shared, which sets the per-case limit");
+    assert!(
+        !WORKED_SEEDS.contains(&seed),
+        "seed {seed}: the program was worked on against its cases ({WORKED_SEEDS:?}); draw another"
+    );
+    ledger::Campaign::start(seed, first, machine, DRAWS).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn env_number(name: &str, default: u64) -> u64 {
@@ -409,10 +490,20 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
     } else {
         env_number("ROBUST_FIRST", 0) as usize
     };
+    let machine = std::env::var("ROBUST_MACHINE").ok().map(|word| {
+        ledger::Machine::parse(&word).unwrap_or_else(|| panic!("ROBUST_MACHINE = {word}: allowed alone or shared"))
+    });
+    let limit = machine.map_or(CASE_SECONDS, ledger::Machine::limit);
+    let record = match std::env::var("ROBUST_LEDGER").ok().as_deref() {
+        None => None,
+        Some("1") => Some(start_ledger_campaign(seed, first, machine, only.is_some())),
+        Some(v) => panic!("ROBUST_LEDGER = {v}: allowed 1"),
+    };
     let root = common::scratch("cases");
     let next = AtomicUsize::new(first);
     let failures = Mutex::new(Vec::new());
     let measured = Mutex::new(Vec::new());
+    let lines = Mutex::new(Vec::new());
     let started = std::time::Instant::now();
     std::thread::scope(|s| {
         for _ in 0..2 {
@@ -422,22 +513,47 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
                     break;
                 }
                 let index = only.as_ref().map_or(slot, |list| list[slot - first]);
+                let began = std::time::Instant::now();
                 let case = draw(seed, index);
-                let limit = if known_open(index) {
-                    KNOWN_OPEN_SECONDS
-                } else {
-                    CASE_SECONDS
+                let limit = if known_open(index) { KNOWN_OPEN_SECONDS } else { limit };
+                let result = run_case(&case, &root, limit);
+                let line = |outcome, counts| ledger::CaseLine {
+                    index,
+                    wall: case.wall.to_string(),
+                    outcome,
+                    seconds: began.elapsed().as_secs_f64(),
+                    counts,
                 };
-                match run_case(&case, &root, limit) {
+                let line = match result {
                     Ok(m) => {
                         let _ = std::fs::remove_dir_all(root.join(format!("case-{index}")));
+                        let line = match m.outside {
+                            Some(_) => line(ledger::Outcome::Refused, None),
+                            None => line(
+                                ledger::Outcome::Passed,
+                                Some([
+                                    m.steps,
+                                    m.iterations.iter().sum(),
+                                    m.iterations.iter().copied().max().unwrap_or(0),
+                                    m.cutbacks,
+                                ]),
+                            ),
+                        };
                         measured.lock().unwrap().push((index, m));
+                        line
                     }
-                    Err(why) => {
-                        eprintln!("case {index} FAILED: {why}\n{}", case.toml);
-                        failures.lock().unwrap().push((index, why, case.toml));
+                    Err(failed) => {
+                        eprintln!("case {index} FAILED: {}\n{}", failed.why, case.toml);
+                        let line = line(failed.outcome, None);
+                        failures.lock().unwrap().push((index, failed.why, case.toml));
+                        line
                     }
+                };
+                if record.is_some() {
+                    // the progress of a long campaign, for its log
+                    eprintln!("case {index}: {} in {:.1} s", line.outcome.word(), line.seconds);
                 }
+                lines.lock().unwrap().push(line);
             });
         }
     });
@@ -464,12 +580,12 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
         Some(list) => format!("{list:?}"),
         None => format!("from {first}"),
     };
+    let wall_s = started.elapsed().as_secs_f64();
     let mut report = format!(
-        "{} cases (seed {seed}, {which}) in {:.1} s: {} passed, {} refused as outside the model {outside:?}, \
+        "{} cases (seed {seed}, {which}) in {wall_s:.1} s: {} passed, {} refused as outside the model {outside:?}, \
          {} failed; {steps} steps; slowest passing case {} ({:.1} s)\n\
          Newton iterations per output step: {histogram:?}\ncut-backs per case: {cutback_cases:?}\n",
         cases,
-        started.elapsed().as_secs_f64(),
         measured.len() - outside.len(),
         outside.len(),
         cases - measured.len(),
@@ -513,6 +629,18 @@ fn random_cases_across_the_parameter_space_finish_with_the_energy_balanced_and_b
         std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("robustness-report.txt"),
         &report,
     );
+    if let Some(campaign) = &record {
+        // recorded before the assertion, so that a campaign with failures has its row too
+        let iterations = measured
+            .iter()
+            .filter(|(_, m)| m.outside.is_none())
+            .flat_map(|(_, m)| m.iterations.iter().copied())
+            .collect();
+        let row = campaign
+            .finish(lines.into_inner().unwrap(), iterations, wall_s)
+            .unwrap_or_else(|e| panic!("the campaign's row was not recorded: {e}"));
+        println!("ledger row:\n{}\n{}", ledger::HEADER, row.to_csv());
+    }
     assert!(
         failures.is_empty(),
         "{} of {cases} cases failed:\n{}",
@@ -579,4 +707,184 @@ fn after_a_blow_the_ringing_of_a_soft_head_converges_in_a_few_iterations_per_ste
         "{mean:.2} Newton iterations per step after the impact: {after:?}"
     );
     let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn the_campaign_ledger_is_well_formed_and_each_row_is_what_its_runs_file_gives() {
+    let rows = ledger::read(&ledger::folder().join("ledger.csv")).unwrap_or_else(|e| panic!("{e}"));
+    for row in &rows {
+        assert!(!WORKED_SEEDS.contains(&row.seed), "seed {} is a worked seed", row.seed);
+        let cases = ledger::read_runs(&ledger::runs_path(row.seed)).unwrap_or_else(|e| panic!("{e}"));
+        ledger::check_against_runs(row, &cases).unwrap_or_else(|e| panic!("{e}"));
+    }
+    let runs = ledger::folder().join("runs");
+    if runs.is_dir() {
+        for entry in std::fs::read_dir(&runs).unwrap() {
+            let path = entry.unwrap().path();
+            let seed = path.file_stem().and_then(|s| s.to_str()?.parse::<u64>().ok());
+            assert!(
+                path.extension().is_some_and(|e| e == "csv") && seed.is_some_and(|s| rows.iter().any(|r| r.seed == s)),
+                "{}: no campaign of the ledger",
+                path.display()
+            );
+        }
+    }
+    println!(
+        "cases since the last failure: {} ({} campaigns, {} cases in all)",
+        ledger::since_last_failure(&rows),
+        rows.len(),
+        rows.iter().map(|r| r.figures.cases).sum::<usize>()
+    );
+}
+
+#[test]
+fn the_campaign_readme_quotes_the_ledgers_cases_since_the_last_failure() {
+    let rows = ledger::read(&ledger::folder().join("ledger.csv")).unwrap_or_else(|e| panic!("{e}"));
+    let quoted = ledger::quoted(&ledger::folder().join("README.md")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        quoted,
+        ledger::since_last_failure(&rows),
+        "tests/campaign/README.md quotes {quoted} cases since the last failure; the ledger gives another count"
+    );
+}
+
+/// A ledger row of `seed` with `cases` cases of which `failures` failed, as the ledger holds it.
+fn ledger_row(seed: u64, cases: usize, failures: usize) -> String {
+    format!("2026-12-05T10:00:00Z,{seed},0,{cases},{failures},0,1188a41,120,shared,100.0,1.00,2.00,3.00,3,4,6,1,v1")
+}
+
+#[test]
+fn cases_since_the_last_failure_are_those_of_the_rows_after_the_last_failing_one() {
+    let rows = |list: &[(usize, usize)]| -> Vec<ledger::Row> {
+        list.iter()
+            .enumerate()
+            .map(|(k, &(cases, failures))| ledger::Row::parse(&ledger_row(k as u64 + 100, cases, failures)).unwrap())
+            .collect()
+    };
+    assert_eq!(ledger::since_last_failure(&rows(&[])), 0);
+    assert_eq!(ledger::since_last_failure(&rows(&[(10, 0), (20, 0)])), 30);
+    assert_eq!(
+        ledger::since_last_failure(&rows(&[(10, 0), (20, 2), (30, 0), (40, 0)])),
+        70
+    );
+    assert_eq!(ledger::since_last_failure(&rows(&[(10, 0), (20, 1)])), 0);
+}
+
+#[test]
+fn a_ledger_row_reads_back_as_written_and_a_malformed_one_is_refused() {
+    let passed = |index, seconds, counts| ledger::CaseLine {
+        index,
+        wall: "rigid".into(),
+        outcome: ledger::Outcome::Passed,
+        seconds,
+        counts: Some(counts),
+    };
+    let cases = vec![
+        passed(40, 3.25, [100, 420, 7, 0]),
+        passed(41, 11.5, [300, 1500, 9, 2]),
+        ledger::CaseLine {
+            index: 42,
+            wall: "none".into(),
+            outcome: ledger::Outcome::Refused,
+            seconds: 0.5,
+            counts: None,
+        },
+        ledger::CaseLine {
+            index: 43,
+            wall: "deformable".into(),
+            outcome: ledger::Outcome::Late,
+            seconds: 120.3,
+            counts: None,
+        },
+    ];
+    let row = ledger::Row {
+        date: ledger::utc(1_790_000_000),
+        seed: 4242,
+        first: 40,
+        figures: ledger::Figures::of(&cases),
+        commit: "1188a41+dirty".into(),
+        limit_s: 120,
+        machine: ledger::Machine::Shared,
+        wall_s: 135.0,
+        newton: Some([4, 6, 9]),
+        draws: DRAWS.into(),
+    };
+    assert_eq!(
+        (row.figures.cases, row.figures.failures, row.figures.refusals),
+        (4, 1, 1)
+    );
+    assert_eq!(row.figures.case_s, Some([3.25, 11.5, 11.5]));
+    assert_eq!(row.to_csv().split(',').count(), ledger::HEADER.split(',').count());
+    assert_eq!(ledger::Row::parse(&row.to_csv()), Ok(row.clone()));
+    ledger::check_against_runs(&row, &cases).unwrap();
+    let fewer = &cases[..3];
+    assert!(ledger::check_against_runs(&row, fewer).is_err(), "a case left out");
+    for (bad, what) in [
+        (ledger_row(1, 10, 11), "more failures than cases"),
+        (
+            ledger_row(1, 10, 0).replace(",120,shared,", ",60,shared,"),
+            "a shared machine's limit is 120 s",
+        ),
+        (
+            ledger_row(1, 10, 0).replace(",120,shared,", ",120,busy,"),
+            "alone or shared",
+        ),
+        (
+            ledger_row(1, 10, 0).replace("2026-12-05T10:00:00Z", "2026-12-05"),
+            "a date and time",
+        ),
+        (
+            ledger_row(1, 10, 0).replace(",3,4,6,", ",5,4,6,"),
+            "a median above its 90th percentile",
+        ),
+        (ledger_row(1, 10, 0).replace(",v1", ","), "a draws version"),
+        (ledger_row(1, 10, 0) + ",", "one cell too many"),
+    ] {
+        assert!(ledger::Row::parse(&bad).is_err(), "{what}: {bad}");
+    }
+    // a seed twice
+    let path = common::scratch("ledger").join("ledger.csv");
+    std::fs::write(
+        &path,
+        format!(
+            "{}\n{}\n{}\n",
+            ledger::HEADER,
+            ledger_row(7, 10, 0),
+            ledger_row(7, 5, 0)
+        ),
+    )
+    .unwrap();
+    assert!(ledger::read(&path).unwrap_err().contains("seed 7 twice"));
+    std::fs::write(&path, format!("{}\n{}\n", ledger::HEADER, ledger_row(7, 10, 0))).unwrap();
+    assert_eq!(ledger::read(&path).unwrap().len(), 1);
+}
+
+#[test]
+fn the_ledgers_figures_are_values_of_the_list_at_their_nearest_rank() {
+    let one_to_ten: Vec<usize> = (1..=10).collect();
+    assert_eq!(ledger::spread(&one_to_ten), Some([5, 9, 10]));
+    assert_eq!(ledger::spread(&[7]), Some([7, 7, 7]));
+    assert_eq!(ledger::spread::<f64>(&[]), None);
+}
+
+#[test]
+fn ledger_dates_are_utc_calendar_dates() {
+    assert_eq!(ledger::utc(0), "1970-01-01T00:00:00Z");
+    assert_eq!(ledger::utc(951_782_400), "2000-02-29T00:00:00Z");
+    assert_eq!(ledger::utc(1_709_251_199), "2024-02-29T23:59:59Z");
+    assert_eq!(ledger::utc(4_107_546_123), "2100-03-01T01:02:03Z");
+}
+
+#[test]
+fn a_campaign_rewrites_the_readmes_quoted_count_and_no_other_line() {
+    let path = common::scratch("quote").join("README.md");
+    let text = format!("# Ledger\n\n{}**0**.\n\nThat is the sum.\n", ledger::QUOTE);
+    std::fs::write(&path, &text).unwrap();
+    assert_eq!(ledger::quoted(&path), Ok(0));
+    ledger::quote(&path, 420).unwrap();
+    assert_eq!(ledger::quoted(&path), Ok(420));
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        text.replace("**0**", "**420**")
+    );
 }
