@@ -379,11 +379,6 @@ impl Model {
         1e-3 * self.mass_kg() * 9.81 * self.length_scale()
     }
 
-    /// Mass of the pendulum \[kg\].
-    pub fn pendulum_mass(&self) -> f64 {
-        self.config.material.density * self.config.geometry.thickness * self.projection.area
-    }
-
     /// Moment of inertia of the pendulum about the pivot \[kg m²\].
     pub fn inertia_pivot(&self) -> f64 {
         self.config.material.density * self.config.geometry.thickness * self.projection.polar

@@ -51,8 +51,6 @@ pub(crate) struct ContactPhase {
     pub penetration: f64,
     /// Largest normal force so far \[N\].
     pub force: f64,
-    /// The approach speed at the touch \[m/s\], the scale of the sub-steps' error bound.
-    pub speed: f64,
 }
 
 /// The sub-step ends of the impact in progress before the current state, for the predictor of a

@@ -9,8 +9,8 @@
 //!    of length `s` lands the head on the wall; predicted again from there (the step's trajectory
 //!    is not exactly the rigid flight), up to four landings bring the head to within `1e-6 Δt` of the
 //!    touch (to a fraction of a micrometre).
-//! 2. **In contact** (from the touch until no point penetrates): sub-steps that start at
-//!    `h = τ / contact.substeps` and are sized by their error (below), where `τ = δ_max / v` is the contact's time scale, `v` the approach
+//! 2. **In contact** (from the touch until no point penetrates): sub-steps of length
+//!    `h = τ / contact.substeps`, where `τ = δ_max / v` is the contact's time scale, `v` the approach
 //!    speed at the touch and `δ_max` the penetration at which the contact energy would absorb the
 //!    kinetic energy of the pendulum's effective mass at the contact, `m = I / y²` (`I` about the
 //!    pivot, `y` the contact point's depth below it). For the head's arc of radius `R` against the
@@ -28,18 +28,6 @@
 //!    E = 10 MPa against the steel pendulum: `k_b` = 7.9e4 N/m, 2.4 ms against the penalty's 0.72 ms). Half, because the stiff penalty still acts at the
 //!    contact points: Newton failed to converge in the soft pendulum's second impact at a tenth of
 //!    the whole quarter period and converges at a tenth of its half.
-//!    **The sub-steps' error.** The midpoint rule's local error in the displacement over a
-//!    sub-step of length `h` is `(h³/12) u⃛`; as an error in the velocity, `e = (h²/12) ‖u⃛‖_M`
-//!    with the mass-weighted mean `‖x‖_M = √(xᵀ M x / m)` over the pendulum (`m` its mass), so
-//!    that a node counts by the kinetic energy it carries. `u⃛` is the third divided difference of
-//!    the last four sub-step ends. Against the bound `ε v` (`ε = contact.substep_tolerance`, `v`
-//!    the approach speed at the touch) the next sub-step is `h · 0.9 √(ε v / e)`, within half and
-//!    twice `h`, and within `[τ / contact.substeps, τ]`: the shortest is the resolution the
-//!    converged references were met at, so the estimate only lengthens the sub-steps where the
-//!    motion is smooth at their scale (the tutorial's impact, whose force rises and falls over
-//!    2.1 ms), and keeps them short where the head's vibration takes a share of the energy (a
-//!    stiff contact). A reduced body's nodal fields, made on demand, enter the same estimate, so
-//!    its impacts take the full body's sub-steps.
 //! 3. The impact ends when no point has penetrated for the time `τ` (a body ringing after the blow
 //!    may touch again at once; that is the same impact); its end time is when the largest
 //!    penetration last returned to zero. The rest of the output step follows in one step (or
@@ -182,13 +170,6 @@ impl Simulation {
             };
             let h = if remaining - h < 1e-6 * dt { remaining } else { h };
             let apart = !wall.in_contact(&s.u);
-            // inside an impact, the nodal displacement at the sub-step's start for its error
-            // estimate (a reduced body's state holds current values at the contact nodes only)
-            let fields0 = self
-                .contact
-                .phase
-                .is_some()
-                .then(|| self.body.fields(&self.now)[0].to_vec());
             let before = self.rollback_point();
             its += self.substep(h).map_err(failed)?;
             let u0 = &before.snapshot.state.u;
@@ -210,12 +191,8 @@ impl Simulation {
             }
             if self.contact.phase.is_some() {
                 self.contact_progress(u0, h);
-                let fields0 = fields0.as_deref().unwrap_or(u0);
-                self.size_substep(fields0, h);
                 if self.contact.phase.is_some() {
-                    self.contact
-                        .trail
-                        .push(before.snapshot.state.t, fields0, self.now.state.t);
+                    self.contact.trail.push(before.snapshot.state.t, u0, self.now.state.t);
                 } else {
                     self.contact.trail = ImpactTrail::default();
                 }
@@ -308,54 +285,7 @@ impl Simulation {
             impulse: 0.0,
             penetration: 0.0,
             force: 0.0,
-            speed,
         });
-    }
-
-    /// Sizes the impact's next sub-step from the local error of the one of length `h` from `u0`
-    /// just taken (see the module doc): `e = (h²/12) ‖u⃛‖_M` against the bound
-    /// `contact.substep_tolerance · v`, the next sub-step `h · 0.9 √(bound / e)`, within half and
-    /// twice `h` and within `[τ / contact.substeps, τ]`. Needs the two sub-step ends of the impact
-    /// before `u0` ([`ImpactTrail`]); with fewer, the sub-step stays. `u0` is the nodal
-    /// displacement at the sub-step's start.
-    fn size_substep(&mut self, u0: &[f64], h: f64) {
-        let Some(phase) = self.contact.phase else {
-            return;
-        };
-        let [(ta, ua), (tb, ub)] = self.contact.trail.earlier.as_slice() else {
-            return;
-        };
-        // a sub-step cut short by the output step's end says nothing of the length wanted
-        if h < 0.999 * phase.substep {
-            return;
-        }
-        let (t1, u1) = (self.now.state.t, self.body.fields(&self.now)[0]);
-        let t0 = t1 - h;
-        let pendulum = 2 * self.model.bodies[0].nodes.end;
-        // u⃛ ≈ 6 u[t_a, t_b, t_0, t_1], the third divided difference, on the pendulum's nodes
-        let mut third = vec![0.0; u1.len()];
-        for (i, f) in third.iter_mut().enumerate().take(pendulum) {
-            let d_ab = (ub[i] - ua[i]) / (tb - ta);
-            let d_b0 = (u0[i] - ub[i]) / (t0 - tb);
-            let d_01 = (u1[i] - u0[i]) / (t1 - t0);
-            let e_ab0 = (d_b0 - d_ab) / (t0 - ta);
-            let e_b01 = (d_01 - d_b0) / (t1 - tb);
-            *f = 6.0 * (e_b01 - e_ab0) / (t1 - ta);
-        }
-        let mut weighted = vec![0.0; u1.len()];
-        self.model.mass.apply(&third, &mut weighted);
-        let norm2: f64 = third.iter().zip(&weighted).map(|(a, b)| a * b).sum();
-        let error = h * h / 12.0 * (norm2.max(0.0) / self.model.pendulum_mass()).sqrt();
-        let bound = self.model.config.contact.substep_tolerance * phase.speed;
-        let factor = if error > 0.0 {
-            (0.9 * (bound / error).sqrt()).clamp(0.5, 2.0)
-        } else {
-            2.0
-        };
-        let tau = phase.first_substep * self.model.config.contact.substeps as f64;
-        if let Some(p) = self.contact.phase.as_mut() {
-            p.substep = (h * factor).clamp(phase.first_substep, tau);
-        }
     }
 
     /// Books the (sub)step of length `h` from `u0` into the impact in progress: the impulse, the
@@ -439,7 +369,6 @@ impl Simulation {
                 impulse: 0.0,
                 penetration: 0.0,
                 force: 0.0,
-                speed: 0.0,
             });
         }
         self.contact_progress(u0, h);

@@ -20,7 +20,7 @@ use crate::store::fnv1a;
 /// Version of the byte format of [`Snapshot::to_bytes`] (3: the fingerprint in three parts, without
 /// file paths; 4: the impact's last sub-step ends; 5: the reduced body's coordinates, velocities and step Jacobian; 6: the reduced deformable wall's
 /// amplitudes and velocities).
-pub const SNAPSHOT_VERSION: u32 = 7;
+pub const SNAPSHOT_VERSION: u32 = 6;
 
 const MAGIC: &[u8; 8] = b"PFEMSNAP";
 
@@ -81,7 +81,6 @@ impl Snapshot {
                 w.f64(p.impulse);
                 w.f64(p.penetration);
                 w.f64(p.force);
-                w.f64(p.speed);
             }
             None => w.u8(0),
         }
@@ -216,7 +215,6 @@ impl Snapshot {
                 impulse: r.f64("contact")?,
                 penetration: r.f64("contact")?,
                 force: r.f64("contact")?,
-                speed: r.f64("contact")?,
             })
         } else {
             None
