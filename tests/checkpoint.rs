@@ -7,23 +7,15 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// Few outputs: results.csv and every 50th ParaView frame.
-const LEAN: [&str; 8] = [
-    "--set",
-    "output.plots=false",
-    "--set",
-    "output.animation=false",
-    "--set",
-    "output.viewer=false",
-    "--set",
-    "output.paraview_every=50",
-];
+/// With [`common::NO_PICTURES`], few outputs: results.csv and every 50th ParaView frame.
+const EVERY_50TH_FRAME: [&str; 2] = ["--set", "output.paraview_every=50"];
 
 fn run(args: &[&str], out: &Path) -> Output {
     let o = common::bin()
         .arg("run")
         .arg("--quiet")
-        .args(LEAN)
+        .args(common::NO_PICTURES)
+        .args(EVERY_50TH_FRAME)
         .args(args)
         .arg("--out")
         .arg(out)
@@ -64,7 +56,8 @@ fn a_run_killed_with_sigkill_and_restarted_writes_the_uninterrupted_results_byte
     run(&["--set", "time.end=6"], &whole);
     let mut child = common::bin()
         .args(["run", "--quiet", "--checkpoint-every", "10", "--set", "time.end=6"])
-        .args(LEAN)
+        .args(common::NO_PICTURES)
+        .args(EVERY_50TH_FRAME)
         .arg("--out")
         .arg(&killed)
         .stdout(std::process::Stdio::null())
@@ -179,7 +172,8 @@ fn a_restart_finds_the_same_model_through_a_relative_torque_table_and_the_deform
     let in_dir = |args: &[&str], out: &str| {
         let o = common::bin()
             .args(["run", "--quiet"])
-            .args(LEAN)
+            .args(common::NO_PICTURES)
+            .args(EVERY_50TH_FRAME)
             .args(sets)
             .args(args)
             .args(["--out", out])

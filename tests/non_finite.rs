@@ -12,20 +12,10 @@ use std::process::Output;
 use pendulum_fem::run::status::RunStatus;
 use pendulum_fem::Config;
 
-/// Output switches that leave `results.csv`, `status.json` and the ParaView frames.
-const NO_PICTURES: [&str; 6] = [
-    "--set",
-    "output.plots=false",
-    "--set",
-    "output.animation=false",
-    "--set",
-    "output.viewer=false",
-];
-
 /// `pendulum-fem run` into `out` with `--set` of each of `sets`.
 fn run(out: &Path, sets: &[String]) -> Output {
     let mut cmd = common::bin();
-    cmd.args(["run", "--quiet", "--out"]).arg(out).args(NO_PICTURES);
+    cmd.args(["run", "--quiet", "--out"]).arg(out).args(common::NO_PICTURES);
     for set in sets {
         cmd.args(["--set", set]);
     }

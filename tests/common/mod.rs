@@ -18,6 +18,17 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use pendulum_fem::mesh::BoundaryEdge;
 use pendulum_fem::{Config, Mesh};
 
+/// `pendulum-fem run` switches that turn the pictures off (plots, animations, the viewer) and
+/// leave `results.csv`, `status.json` and the ParaView frames.
+pub const NO_PICTURES: [&str; 6] = [
+    "--set",
+    "output.plots=false",
+    "--set",
+    "output.animation=false",
+    "--set",
+    "output.viewer=false",
+];
+
 /// The repository's root (the root package's folder).
 pub fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
