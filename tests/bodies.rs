@@ -1,7 +1,7 @@
 //! A model is a list of bodies: a second, separate elastic body with fixed edges changes nothing
 //! for the pendulum, stays at rest, and its fixed edges hold.
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use pendulum_fem::config::Material;

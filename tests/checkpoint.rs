@@ -2,7 +2,7 @@
 //! from its last checkpoint, or a finished run continued to a later `time.end`, writes exactly the
 //! results of an uninterrupted run.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -1,7 +1,7 @@
 //! The command line: errors name the key or file and what is allowed, exit non-zero, and never
 //! damage results already written; `init` writes a configuration that reads back as the defaults.
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use std::process::{Command, Output};

@@ -2,7 +2,7 @@
 //! gradient and Hessian against finite differences, the discrete-gradient identity through the
 //! moment of impact, and nothing when apart. (The runs are in `tests/wall.rs`.)
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use pendulum_fem::assembly::Pattern;

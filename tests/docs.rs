@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-mod common;
+use crate::common;
 use common::python as python_env;
 
 /// The longest a block may take: the slowest blocks, the Dask sweeps (a local cluster of two
@@ -274,8 +274,7 @@ fn run_block(mut cmd: Command) -> Result<String, String> {
 fn every_documentation_block_runs_as_written_or_says_why_not() {
     let root = common::root();
     let scratch = common::scratch("blocks");
-    let python = python_env::test_env_python(root);
-    python_env::install_wheel(root, &python, &scratch);
+    let python = python_env::test_env_with_wheel(root);
     let fmu = python_env::pack_fmu(&scratch.join("fmu"));
 
     // PATH: this test's pendulum-fem, then the test environment's python, pip and fmpy

@@ -2,7 +2,7 @@
 //! that the trapezoidal rule cannot do (the long swing, a free spin, a torque spin-up, a soft
 //! pendulum).
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use pendulum_fem::config::{self, MaterialModel, Plane, Scheme, TorqueProfile as Kind};

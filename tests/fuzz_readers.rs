@@ -3,9 +3,9 @@
 //! valid files or arbitrary input, returns a value or an error that names its source, and never
 //! panics. These run 300 cases each in seconds with the suite; a long campaign sets the number of
 //! cases per test with the environment variable `FUZZ_CASES`, e.g.
-//! `FUZZ_CASES=2000000 cargo test --release --test fuzz_readers gmsh` (see the README).
+//! `FUZZ_CASES=2000000 cargo test --release --test suite fuzz_readers::` (see the README).
 
-mod common;
+use crate::common;
 use common::msh;
 
 use std::sync::OnceLock;

@@ -1,6 +1,6 @@
 //! Constructive geometry: exact integrals, booleans, names and sizes, invalid parameters.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 

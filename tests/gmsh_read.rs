@@ -2,7 +2,7 @@
 //! run bit for bit (up to the run-to-run order of a parallel sum in the reported strain energy), ASCII and binary files agree, a plate with a hole meshed by real Gmsh swings
 //! with the period of the exact rigid compound pendulum, and bad files are errors naming the line.
 
-mod common;
+use crate::common;
 use common::Extremes;
 use common::{msh, tools};
 

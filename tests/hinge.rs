@@ -2,7 +2,7 @@
 //! turn; swinging it keeps the hinge edge's mean displacement at zero, and Newton converges in
 //! few iterations.
 
-mod common;
+use crate::common;
 
 use pendulum_fem::simulation::Simulation;
 use pendulum_fem::Config;

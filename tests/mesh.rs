@@ -1,6 +1,6 @@
 //! The generated mesh: conformity, names, quality, Jacobians, exactness and its rate.
 
-mod common;
+use crate::common;
 
 use common::{assert_conforming, chord, tutorial, with_geometry};
 use pendulum_fem::geometry;

@@ -2,7 +2,7 @@
 //! read writes the same results, byte for byte, as one that meshed. A binary of its own, so that
 //! no other test's meshes fill the process's last-mesh store between the steps of the first test.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Stdio;

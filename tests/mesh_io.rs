@@ -1,7 +1,7 @@
 //! Mesh files: Gmsh 4.1 and the VTU multiblock parse back with the counts written; the mesh
 //! command writes them and reports the agreed JSON keys.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

@@ -4,7 +4,7 @@
 //! mesh, P4 elements refined twice, SciPy's ARPACK shift-invert), their convergence under mesh
 //! refinement, the eigenpairs' checks and the command line.
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use pendulum_fem::commands::modes::compute;

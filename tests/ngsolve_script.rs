@@ -2,7 +2,7 @@
 //! used by `pendulum-fem bench run --ngsolve`) is the tutorial's model: run in NGSolve, it
 //! reproduces the reference runs of `tests/data` (NGSolve 6.2, the tutorial as written) step by step.
 
-mod common;
+use crate::common;
 use common::tools;
 
 use pendulum_fem::store::Table;

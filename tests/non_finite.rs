@@ -4,7 +4,7 @@
 //! Both runs have finite configurations, which the validation accepts: the non-finite numbers
 //! come from the arithmetic of the run.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Output;

@@ -14,7 +14,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-mod common;
+use crate::common;
 use common::python as python_env;
 use python_env::run;
 
@@ -109,7 +109,7 @@ fn every_notebook_runs_against_the_installed_wheel() {
     let fmu = python_env::pack_fmu(&scratch.join("fmu"));
 
     let outside = python_env::outside_the_source_tree("notebooks");
-    let env = python_env::wheel_env(root, &scratch, &outside);
+    let env = python_env::wheel_env(root);
     report(&format!("installed {} into {}", env.wheel, env.python.display()));
     let theta_csv = outside.join("notebook-theta.csv");
     for name in NOTEBOOKS {

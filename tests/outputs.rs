@@ -1,6 +1,6 @@
 //! The frame writers: plots, animations, ParaView files, output folders and flags.
 
-mod common;
+use crate::common;
 use common::{plate, tools};
 
 use std::collections::HashSet;

@@ -8,7 +8,7 @@
 //! CLI's `sweep` (its path in `PENDULUM_FEM_CLI`); any failure fails this test with pytest's
 //! output (nothing is skipped).
 
-mod common;
+use crate::common;
 use common::python as python_env;
 use python_env::run;
 
@@ -21,7 +21,7 @@ fn the_abi3_wheel_installs_into_a_clean_environment_and_passes_the_python_suite(
     // pytest's working folder: outside the source tree, so that `import pendulum_fem` can only
     // find the installed wheel
     let cwd = python_env::outside_the_source_tree("python-package");
-    let env = python_env::wheel_env(root, &scratch, &cwd);
+    let env = python_env::wheel_env(root);
     println!("installed {} into {}", env.wheel, env.python.display());
     let report = run(
         env.command(&env.python, &cwd)

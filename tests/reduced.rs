@@ -8,7 +8,7 @@
 //! with the full model at the bars of issue 20 (the differences found are in the asserts'
 //! messages).
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use std::path::{Path, PathBuf};

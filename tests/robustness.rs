@@ -43,7 +43,7 @@
 //! campaign in the ledger `tests/campaign/ledger.csv` ([`ledger`]; `scripts/campaign` runs one):
 //! a seed never run before, refused otherwise.
 
-mod common;
+use crate::common;
 #[path = "robustness/ledger.rs"]
 mod ledger;
 use common::Extremes;

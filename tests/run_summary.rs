@@ -2,7 +2,7 @@
 //! `max |ΔE − W_torque| / scale` with a scale that is never near zero, and a run whose error
 //! exceeds `output.energy_watchdog` stops with an error naming the time and the energies.
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use std::path::PathBuf;

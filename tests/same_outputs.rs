@@ -19,7 +19,7 @@
 //! `cargo xtask fmu` packs it) instead of `target/fmu/PendulumFem.fmu`, simulated by fmpy in the
 //! environment of `scripts/test-env`.
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use std::path::{Path, PathBuf};

@@ -3,7 +3,7 @@
 //! key would hand one model another's mass matrix or loads without a sign. One test in a binary of
 //! its own, so that no other test's models evict or forget the operators between its builds.
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use std::sync::Arc;

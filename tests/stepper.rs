@@ -1,7 +1,7 @@
 //! The stepping interface: `step(dt)` with any `dt`, rollback of a failed step, the held torque
 //! input, outputs on request, snapshots in memory and as bytes.
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use pendulum_fem::commands::run::csv_values;

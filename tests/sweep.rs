@@ -3,7 +3,7 @@
 //! a failed row and never stops the others; an interrupted sweep resumed gives the summary of an
 //! uninterrupted one. The cases are short (`time.end = 0.1` to `0.5`) default runs.
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use std::path::Path;

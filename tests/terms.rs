@@ -1,7 +1,7 @@
 //! Term level: gradients and Hessians against finite differences, the patch test, and the
 //! rigid-body invariance of the strain energy.
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use pendulum_fem::assembly::Pattern;

@@ -6,7 +6,7 @@
 //! One file for one claim (the torque term is right, from its load to a whole run), longer than
 //! 600 lines because each check is a test of its own.
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use pendulum_fem::assembly::Pattern;

@@ -9,7 +9,7 @@
 //! The comparisons with NGSolve use NGSolve's scheme, `time.scheme = "trapezoidal"`, set
 //! explicitly; the other claims hold for the default energy-momentum scheme.
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use pendulum_fem::config::{InitialAcceleration, InitialElastic, Scheme};

@@ -2,7 +2,7 @@
 //! headless Chromium (`.ci/run` installs it; elsewhere the browser tests skip with a visible
 //! warning, and fail when `CI` is set).
 
-mod common;
+use crate::common;
 use common::{plate, tools};
 
 use std::collections::HashSet;

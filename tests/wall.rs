@@ -6,7 +6,7 @@
 //! and the numbers are written out where they are asserted. The impulse is checked against the
 //! exact rigid inertia (`tests/data/README.md`).
 
-mod common;
+use crate::common;
 use common::Extremes;
 
 use pendulum_fem::config::{ContactMethod, Scheme, WallKind};

@@ -5,7 +5,7 @@
 //! One claim, the wall in every output, past 600 lines because each output is checked in a test
 //! of its own.
 
-mod common;
+use crate::common;
 use common::tools;
 use common::Extremes;
 

@@ -7,6 +7,7 @@
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::OnceLock;
 
 /// Runs `cmd` and returns its stdout; panics with everything it printed when it fails.
 pub fn run(cmd: &mut Command, what: &str) -> String {
@@ -42,12 +43,18 @@ pub fn test_env_python(root: &Path) -> PathBuf {
     env_python(root, "test-env")
 }
 
-/// Builds the wheel of `crates/python` with the test environment's maturin (release) into a fresh
-/// `scratch/wheels` and returns it. The extension is built for the stable ABI (pyo3's
-/// `abi3-py39`), so the one wheel serves CPython 3.9 and later: its name says `cp39-abi3`.
-pub fn build_wheel(root: &Path, scratch: &Path) -> PathBuf {
+/// The wheel of `crates/python`, built once per test process with the test environment's maturin
+/// (release) into a folder of its own, so that every test that installs it installs the same
+/// file and none rebuilds it. The extension is built for the stable ABI (pyo3's `abi3-py39`), so
+/// the one wheel serves CPython 3.9 and later: its name says `cp39-abi3`.
+pub fn wheel(root: &Path) -> &'static Path {
+    static WHEEL: OnceLock<PathBuf> = OnceLock::new();
+    WHEEL.get_or_init(|| build_wheel(root, &super::scratch("wheel")))
+}
+
+/// Builds the wheel into a fresh `scratch/wheels` and returns it.
+fn build_wheel(root: &Path, scratch: &Path) -> PathBuf {
     let python = test_env_python(root);
-    // a fresh wheel folder, so that exactly the wheel built now is installed
     let wheels = scratch.join("wheels");
     let _ = std::fs::remove_dir_all(&wheels);
     run(
@@ -71,16 +78,21 @@ pub fn build_wheel(root: &Path, scratch: &Path) -> PathBuf {
     wheel
 }
 
-/// Builds the wheel and installs it into the environment of `python` (the test environment),
-/// replacing any earlier build, so that the package imported there is this checkout's.
-pub fn install_wheel(root: &Path, python: &Path, scratch: &Path) {
-    let wheel = build_wheel(root, scratch);
-    run(
-        Command::new(python)
-            .args(["-m", "pip", "install", "--quiet", "--force-reinstall", "--no-deps"])
-            .arg(&wheel),
-        "pip install",
-    );
+/// Installs [`wheel`] into the test environment (`scripts/test-env`), once per test process,
+/// replacing any earlier build, so that the package imported there is this checkout's; returns
+/// that environment's interpreter.
+pub fn test_env_with_wheel(root: &Path) -> &'static Path {
+    static INSTALLED: OnceLock<PathBuf> = OnceLock::new();
+    INSTALLED.get_or_init(|| {
+        let python = test_env_python(root);
+        run(
+            Command::new(&python)
+                .args(["-m", "pip", "install", "--quiet", "--force-reinstall", "--no-deps"])
+                .arg(wheel(root)),
+            "pip install",
+        );
+        python
+    })
 }
 
 /// A clean virtual environment with this checkout's wheel installed, as a user installs it.
@@ -108,14 +120,20 @@ impl WheelEnv {
     }
 }
 
-/// Builds the wheel (with the test environment's maturin) and installs it, with its extras
-/// (`sweep`, `dask`, `syssimx`, `test`), into the clean environment of `scripts/wheel-env`
-/// (`target/wheel-venv`: made anew when `scripts/requirements-wheel.txt` changes, which pins
-/// everything the tests and notebooks import; it never holds maturin or any other build tool). The
-/// wheel is reinstalled every time. Checks that pip's requirements hold and that `pendulum_fem`
-/// imports from the environment, not from the source tree, with `cwd` as the working folder.
-pub fn wheel_env(root: &Path, scratch: &Path, cwd: &Path) -> WheelEnv {
-    let wheel = build_wheel(root, scratch);
+/// The clean environment of `scripts/wheel-env` (`target/wheel-venv`: made anew when
+/// `scripts/requirements-wheel.txt` changes, which pins everything the tests and notebooks import;
+/// it never holds maturin or any other build tool) with [`wheel`] installed, with its extras
+/// (`sweep`, `dask`, `syssimx`, `test`), once per test process: every test that uses it sees the
+/// same installation, and none reinstalls it under another's feet. Checks that pip's requirements
+/// hold and that `pendulum_fem` imports from the environment, not from the source tree, from a
+/// working folder outside the source tree.
+pub fn wheel_env(root: &Path) -> &'static WheelEnv {
+    static ENV: OnceLock<WheelEnv> = OnceLock::new();
+    ENV.get_or_init(|| install_into_wheel_env(root))
+}
+
+fn install_into_wheel_env(root: &Path) -> WheelEnv {
+    let wheel = wheel(root);
     let env = WheelEnv {
         python: env_python(root, "wheel-env"),
         wheel: wheel.file_name().unwrap().to_string_lossy().into_owned(),
@@ -128,8 +146,9 @@ pub fn wheel_env(root: &Path, scratch: &Path, cwd: &Path) -> WheelEnv {
             venv.display()
         );
     }
+    let cwd = outside_the_source_tree("wheel-env");
     let pip = |args: &[&str], what: &str| {
-        let mut cmd = env.command(&env.python, cwd);
+        let mut cmd = env.command(&env.python, &cwd);
         cmd.args(["-m", "pip", "--disable-pip-version-check"]).args(args);
         run(&mut cmd, what)
     };
@@ -137,7 +156,7 @@ pub fn wheel_env(root: &Path, scratch: &Path, cwd: &Path) -> WheelEnv {
     let with_extras = format!("{}[sweep,dask,syssimx,test]", wheel.display());
     pip(&["install", "--quiet", &with_extras], "pip install of the wheel");
     pip(&["check"], "pip check");
-    let mut cmd = env.command(&env.python, cwd);
+    let mut cmd = env.command(&env.python, &cwd);
     cmd.args(["-c", "import pendulum_fem; print(pendulum_fem.__file__)"]);
     let imported = PathBuf::from(run(&mut cmd, "import pendulum_fem").trim());
     assert!(
@@ -146,6 +165,7 @@ pub fn wheel_env(root: &Path, scratch: &Path, cwd: &Path) -> WheelEnv {
         imported.display(),
         venv.display()
     );
+    let _ = std::fs::remove_dir_all(&cwd);
     env
 }
 
@@ -164,10 +184,12 @@ pub fn pack_fmu(dir: &Path) -> PathBuf {
     fmu
 }
 
-/// A fresh, empty folder `pendulum-fem-<name>-<process id>` in the system's temporary folder: a
-/// working folder outside the source tree (the caller removes it when done).
+/// A fresh, empty folder `pendulum-fem-<name>-<process id>-<call>` in the system's temporary
+/// folder: a working folder outside the source tree (the caller removes it when done).
 pub fn outside_the_source_tree(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pendulum-fem-{name}-{}", std::process::id()));
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+    let dir = std::env::temp_dir().join(format!("pendulum-fem-{name}-{}-{call}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir

@@ -4,7 +4,7 @@
 //! them). The FMUs are packed from the shared object cargo built next to this test, as
 //! `cargo xtask fmu --fmi 3` packs it; the impact references are the CLI's `events.csv`.
 
-mod common;
+use crate::common;
 use common::{cli_run, fmu, fmu3, run_script};
 
 /// θ at 20° in radians: the FMU's default `theta_start` (the CLI's `initial.angle_deg = 20`).

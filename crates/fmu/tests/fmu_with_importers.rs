@@ -10,7 +10,7 @@
 
 use pendulum_fem_core::{Config, Simulation};
 
-mod common;
+use crate::common;
 use common::{cli_run, fmu, run_script};
 
 /// θ at 20° in radians: the FMU's default `theta_start` (the CLI's `initial.angle_deg = 20`).

@@ -11,7 +11,7 @@ import pytest
 def _read_csv(variable, what):
     """The CSV file named by the environment variable as (header, rows of strings)."""
     path = os.environ.get(variable)
-    assert path, f"{variable} ({what}) is not set: run these tests through `cargo test --test python_package`"
+    assert path, f"{variable} ({what}) is not set: run these tests through `cargo test --release --test suite python_package::`"
     with Path(path).open(newline="") as f:
         reader = csv.reader(f)
         header = next(reader)
@@ -43,7 +43,7 @@ def cli_results():
     its path in PENDULUM_FEM_RESULTS_CSV; without it the comparison fails (it never skips).
     """
     path = os.environ.get("PENDULUM_FEM_RESULTS_CSV")
-    assert path, "PENDULUM_FEM_RESULTS_CSV is not set: run these tests through `cargo test --test python_package`"
+    assert path, "PENDULUM_FEM_RESULTS_CSV is not set: run these tests through `cargo test --release --test suite python_package::`"
     with Path(path).open(newline="") as f:
         reader = csv.reader(f)
         header = next(reader)

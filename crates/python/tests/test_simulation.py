@@ -87,7 +87,7 @@ def files_config(folder):
     """A coarse pendulum mesh (the CLI's `mesh` command: mesh/mesh.msh) and a torque table
     (torque.csv) in `folder`, and the configuration naming both by relative paths."""
     cli = os.environ.get("PENDULUM_FEM_CLI")
-    assert cli, "PENDULUM_FEM_CLI is not set: run these tests through `cargo test --test python_package`"
+    assert cli, "PENDULUM_FEM_CLI is not set: run these tests through `cargo test --release --test suite python_package::`"
     subprocess.run(
         [cli, "mesh", "--set", "mesh.refine=0.5", "--out", str(folder / "mesh")], check=True, capture_output=True
     )

@@ -55,7 +55,7 @@ initial.angle_deg = 30
 def cli():
     """The `pendulum-fem` binary the runner built (never skipped when absent: a failure)."""
     path = os.environ.get("PENDULUM_FEM_CLI")
-    assert path, "PENDULUM_FEM_CLI is not set: run these tests through `cargo test --test python_package`"
+    assert path, "PENDULUM_FEM_CLI is not set: run these tests through `cargo test --release --test suite python_package::`"
     return path
 
 
