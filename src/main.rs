@@ -74,7 +74,8 @@ struct RunArgs {
     /// Allow --out to name an existing non-empty folder.
     #[arg(long)]
     force: bool,
-    /// No progress output.
+    /// Print nothing on success: no progress and no summary (warnings and errors still go to
+    /// stderr; the exit code tells how the run ended).
     #[arg(long, short = 'q')]
     quiet: bool,
     /// Write the latest snapshot to checkpoint.snap in the results folder every N steps (and at
@@ -500,7 +501,9 @@ fn run(args: RunArgs) -> Result<bool, Error> {
         );
         return Ok(true);
     }
-    pendulum_fem::commands::summary::print_summary(&summary);
+    if !args.quiet {
+        pendulum_fem::commands::summary::print_summary(&summary);
+    }
     Ok(false)
 }
 
