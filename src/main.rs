@@ -37,19 +37,7 @@ enum Command {
     },
     /// Natural frequencies and mode shapes of the pinned pendulum about the undeformed state:
     /// a table, DIR/modes.json, DIR/modes.pvd (one .vtu per mode) and DIR/modes.png.
-    Modes {
-        #[command(flatten)]
-        cfg: ConfigArgs,
-        /// Elastic modes to compute besides the rigid rotation (1 to 50).
-        #[arg(long, value_name = "N", default_value_t = 10, allow_negative_numbers = true)]
-        n: i64,
-        /// Output folder (default: `modes`).
-        #[arg(long, short = 'o', value_name = "DIR", default_value = "modes")]
-        out: PathBuf,
-        /// Print the report as one JSON object (the content of modes.json).
-        #[arg(long)]
-        json: bool,
-    },
+    Modes(ModesArgs),
     /// Measure speed and memory (see `pendulum-fem bench --help`).
     Bench(BenchArgs),
     /// Run a parameter study: one run per case, in parallel or as job-array tasks, and a summary
@@ -86,7 +74,8 @@ struct RunArgs {
     /// Allow --out to name an existing non-empty folder.
     #[arg(long)]
     force: bool,
-    /// No progress output.
+    /// Print nothing on success: no progress and no summary (warnings and errors still go to
+    /// stderr; the exit code tells how the run ended).
     #[arg(long, short = 'q')]
     quiet: bool,
     /// Write the latest snapshot to checkpoint.snap in the results folder every N steps (and at
@@ -97,6 +86,26 @@ struct RunArgs {
     /// pendulum.pvd (the configuration from DIR/checkpoint.toml; `--set time.end=…` runs longer).
     #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "force", "config"])]
     restart: Option<PathBuf>,
+}
+
+/// `modes`: the folder is picked as `run` picks its own.
+#[derive(Args, Debug)]
+struct ModesArgs {
+    #[command(flatten)]
+    cfg: ConfigArgs,
+    /// Elastic modes to compute besides the rigid rotation (1 to 50).
+    #[arg(long, value_name = "N", default_value_t = 10, allow_negative_numbers = true)]
+    n: i64,
+    /// Output folder (default: a fresh numbered folder `modes-NNNN` under `output.dir`).
+    #[arg(long, short = 'o', value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Allow --out to name an existing non-empty folder (the files of an earlier `modes` there are
+    /// removed first, other files are kept).
+    #[arg(long)]
+    force: bool,
+    /// Print the report as one JSON object (the content of modes.json).
+    #[arg(long)]
+    json: bool,
 }
 
 /// `sweep`: the cases come from `--vary` (and `--file`); each runs in DIR/case-NNNN.
@@ -396,17 +405,20 @@ fn bench(args: BenchArgs) -> Result<(), Error> {
     }
 }
 
-fn modes(cfg: &ConfigArgs, n: i64, out: &std::path::Path, json: bool) -> Result<(), Error> {
+fn modes(args: &ModesArgs) -> Result<(), Error> {
     use pendulum_fem::commands::modes::{check_count, modes_command, MAX_MODES};
+    use pendulum_fem::commands::run::outdir::MODES_OUTPUTS;
+    let n = args.n;
     let n = usize::try_from(n).map_err(|_| {
         Error::Input(format!(
             "modes --n {n}: allowed 1 to {MAX_MODES} (the number of elastic modes besides the rigid rotation)"
         ))
     })?;
     check_count(n)?;
-    let config = load(cfg)?;
-    let report = modes_command(&config, n, out)?;
-    if json {
+    let config = load(&args.cfg)?;
+    let out = MODES_OUTPUTS.prepare(&config.output.dir, args.out.as_deref(), args.force)?;
+    let report = modes_command(&config, n, &out)?;
+    if args.json {
         println!("{}", report.to_json());
     } else {
         print!("{}", report.table());
@@ -489,7 +501,9 @@ fn run(args: RunArgs) -> Result<bool, Error> {
         );
         return Ok(true);
     }
-    pendulum_fem::commands::summary::print_summary(&summary);
+    if !args.quiet {
+        pendulum_fem::commands::summary::print_summary(&summary);
+    }
     Ok(false)
 }
 
@@ -523,7 +537,7 @@ fn main() -> ExitCode {
         Some(Command::Init { file, force }) => init(file, force).map(|()| ExitCode::SUCCESS),
         Some(Command::Bench(args)) => bench(args).map(|()| ExitCode::SUCCESS),
         Some(Command::Sweep(args)) => sweep(args),
-        Some(Command::Modes { cfg, n, out, json }) => modes(&cfg, n, &out, json).map(|()| ExitCode::SUCCESS),
+        Some(Command::Modes(args)) => modes(&args).map(|()| ExitCode::SUCCESS),
         Some(Command::Mesh { cfg, out, json }) => load(&cfg)
             .and_then(|c| pendulum_fem::commands::mesh::mesh_command(&c, &out, json))
             .map(|()| ExitCode::SUCCESS),

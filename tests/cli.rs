@@ -205,6 +205,53 @@ fn help_lists_every_subcommand() {
     }
 }
 
+#[test]
+fn quiet_runs_print_nothing_on_success_and_only_the_error_on_failure() {
+    let dir = common::scratch("quiet");
+    let quiet = |out: &str, sets: &[&str]| {
+        let mut c = common::bin();
+        c.args([
+            "run",
+            "--quiet",
+            "--set",
+            "time.end=0.02",
+            "--set",
+            "output.paraview=false",
+        ])
+        .args(common::NO_PICTURES);
+        for s in sets {
+            c.args(["--set", s]);
+        }
+        c.arg("--out").arg(dir.join(out)).output().unwrap()
+    };
+    let ok = quiet("ok", &[]);
+    assert!(ok.status.success(), "{}", stderr(&ok));
+    assert_eq!(String::from_utf8_lossy(&ok.stdout), "", "stdout of a quiet run");
+    assert_eq!(stderr(&ok), "", "stderr of a quiet run");
+    assert!(dir.join("ok/results.csv").is_file(), "the run wrote its results");
+
+    let short = common::bin()
+        .args(["run", "-q", "--set", "time.end=0.02", "--set", "output.paraview=false"])
+        .args(common::NO_PICTURES)
+        .arg("--out")
+        .arg(dir.join("short"))
+        .output()
+        .unwrap();
+    assert!(
+        short.status.success() && short.stdout.is_empty() && short.stderr.is_empty(),
+        "-q: {short:?}"
+    );
+
+    let bad = quiet("bad", &["time.dt=0"]);
+    assert!(!bad.status.success());
+    assert_eq!(String::from_utf8_lossy(&bad.stdout), "", "stdout of a failed quiet run");
+    assert!(
+        stderr(&bad).starts_with("error: ") && stderr(&bad).contains("time.dt"),
+        "{}",
+        stderr(&bad)
+    );
+}
+
 fn status_of(dir: &std::path::Path) -> pendulum_fem::run::status::RunStatus {
     pendulum_fem::run::status::RunStatus::read(&dir.join("status.json")).expect("status.json")
 }

@@ -14,7 +14,8 @@
 //! `docs/`, …) and a `target/` with `target/fmu/PendulumFem.fmu` (packed here from the freshly
 //! built library, as `cargo xtask fmu` packs it) and `target/release/pendulum-fem`. `PATH` starts
 //! with the `pendulum-fem` built for this test and the test environment's `bin/` (`python`, `pip`,
-//! `fmpy`). Everything a block writes stays in its folder (under `target/tmp/`).
+//! `fmpy`). Everything a block writes stays in its folder (under `target/tmp/`): a file written
+//! through a link into the checkout fails the test.
 //!
 //! A block that cannot run here says so in the markdown, in an HTML comment on the line before its
 //! fence (blank lines between are allowed), and must give the reason:
@@ -292,6 +293,7 @@ fn every_documentation_block_runs_as_written_or_says_why_not() {
 
     let (mut ran, mut not_run, mut failures) = (0, Vec::new(), Vec::new());
     let started = Instant::now();
+    let before = common::source_tree_files();
     for file in documentation(root) {
         let rel = file.strip_prefix(root).unwrap().display().to_string();
         let markdown = std::fs::read_to_string(&file).unwrap();
@@ -343,6 +345,8 @@ fn every_documentation_block_runs_as_written_or_says_why_not() {
         failures.len(),
         failures.join("\n\n")
     );
+    // a block's folder links to the checkout's folders: what it writes into one lands there
+    common::assert_no_new_files(&before, &common::source_tree_files(), "the documentation's blocks");
 }
 
 #[test]

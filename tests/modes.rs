@@ -259,3 +259,65 @@ fn a_bad_mode_count_fails_naming_the_option_and_the_allowed_range() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--n"));
 }
+
+/// `modes` picks its folder as `run` does: without `--out` a fresh `output.dir/modes-NNNN` each
+/// time; an `--out` that holds anything is refused without `--force`, changing nothing; with
+/// `--force` the files of an earlier `modes` there are replaced (a stale mode shape of a longer
+/// earlier table goes) and other files are kept.
+#[test]
+fn modes_writes_a_fresh_folder_or_refuses_a_non_empty_out_without_force_as_run_does() {
+    let dir = common::scratch("outdir");
+    let modes = |args: &[&str]| {
+        common::bin()
+            .current_dir(&dir)
+            .args(["modes", "--n", "2", "--set", "output.dir=res"])
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    for k in 1..=2 {
+        let o = modes(&[]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let folder = dir.join(format!("res/modes-{k:04}"));
+        assert!(folder.join("modes.json").is_file(), "run {k}: no {}", folder.display());
+        assert!(
+            String::from_utf8_lossy(&o.stdout).contains(&folder.strip_prefix(&dir).unwrap().display().to_string()),
+            "the folder is named: {}",
+            String::from_utf8_lossy(&o.stdout)
+        );
+    }
+    let mut top: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    top.sort();
+    assert_eq!(top, ["res"], "nothing written beside output.dir");
+
+    let out = dir.join("mine");
+    std::fs::create_dir_all(out.join("modes")).unwrap();
+    std::fs::write(out.join("notes.txt"), "keep me").unwrap();
+    std::fs::write(out.join("modes/mode_07.vtu"), "a mode of an earlier, longer table").unwrap();
+    let refused = modes(&["--out", "mine"]);
+    assert!(!refused.status.success(), "a non-empty --out accepted without --force");
+    let msg = String::from_utf8_lossy(&refused.stderr);
+    assert!(msg.contains("mine") && msg.contains("--force"), "{msg}");
+    assert!(!out.join("modes.json").exists(), "the refusal wrote {}", out.display());
+    assert!(out.join("modes/mode_07.vtu").is_file(), "the refusal removed a file");
+
+    let forced = modes(&["--out", "mine", "--force"]);
+    assert!(forced.status.success(), "{}", String::from_utf8_lossy(&forced.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("modes.json")).unwrap()).unwrap();
+    assert_eq!(
+        json["modes"].as_array().unwrap().len(),
+        3,
+        "the rigid mode and 2 elastic ones"
+    );
+    assert!(
+        !out.join("modes/mode_07.vtu").exists(),
+        "a mode shape of the earlier table is left"
+    );
+    assert!(out.join("modes/mode_02.vtu").is_file());
+    assert_eq!(std::fs::read_to_string(out.join("notes.txt")).unwrap(), "keep me");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -4,11 +4,12 @@
 //! The run builds the package's abi3 wheel, installs it into the clean environment of
 //! `scripts/wheel-env` (no maturin, no Rust; matplotlib, ipykernel, nbclient and fmpy pinned in
 //! `scripts/requirements-wheel.txt`) and executes each notebook with nbclient
-//! (`scripts/run-notebook.py`) in a fresh folder outside the source tree; an error in any cell
-//! fails the test. The basics notebook gets the results.csv of the CLI's default run
-//! (`PENDULUM_FEM_RESULTS_CSV`) and writes its θ(t) where `PENDULUM_FEM_THETA_CSV` says; this test
-//! compares that file with the CLI's `results.csv` bit for bit. The co-simulation notebook gets the
-//! FMU, packed here from the library built with this test, in `PENDULUM_FEM_FMU`. A missing tool
+//! (`scripts/run-notebook.py`) in its own folder, `examples/notebooks/`, as Jupyter runs it; an
+//! error in any cell fails the test, and so does any file the notebooks leave in the checkout
+//! (outside `target/`). The basics notebook gets the results.csv of the CLI's default run
+//! (`PENDULUM_FEM_RESULTS_CSV`) and writes its θ(t) to a temporary folder, printing the path; this
+//! test compares that file with the CLI's `results.csv` bit for bit. The co-simulation notebook gets
+//! the FMU, packed here from the library built with this test, in `PENDULUM_FEM_FMU`. A missing tool
 //! fails the test with the reason; nothing is skipped.
 
 use std::path::{Path, PathBuf};
@@ -100,31 +101,50 @@ fn the_notebooks_in_git_have_no_outputs() {
     }
 }
 
+/// The file the basics notebook says it wrote θ(t) to (`wrote N rows to PATH`), from the outputs
+/// of its executed copy.
+fn theta_csv_written_by(executed: &Path) -> PathBuf {
+    let nb: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(executed).unwrap()).unwrap();
+    let said = " rows to ";
+    nb["cells"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|c| c["outputs"].as_array().cloned().unwrap_or_default())
+        .filter_map(|o| match &o["text"] {
+            serde_json::Value::Array(lines) => Some(lines.iter().filter_map(|l| l.as_str()).collect::<String>()),
+            serde_json::Value::String(text) => Some(text.clone()),
+            _ => None,
+        })
+        .flat_map(|text| text.lines().map(str::to_string).collect::<Vec<_>>())
+        .find_map(|line| {
+            let rest = line.strip_prefix("wrote ")?;
+            Some(PathBuf::from(rest.split_once(said)?.1.trim()))
+        })
+        .unwrap_or_else(|| panic!("{} says nowhere that it wrote θ(t)", executed.display()))
+}
+
 #[test]
-fn every_notebook_runs_against_the_installed_wheel() {
+fn every_notebook_runs_against_the_installed_wheel_and_leaves_no_file_in_the_checkout() {
     let root = common::root();
     let scratch = common::scratch("notebooks");
     // the CLI's default run (1 s in steps of 10 ms)
     let results = python_env::cli_run(&scratch.join("cli-run"), &[]).join("results.csv");
     let fmu = python_env::pack_fmu(&scratch.join("fmu"));
 
-    let outside = python_env::outside_the_source_tree("notebooks");
     let env = python_env::wheel_env(root);
     report(&format!("installed {} into {}", env.wheel, env.python.display()));
-    let theta_csv = outside.join("notebook-theta.csv");
+    let before = common::source_tree_files();
     for name in NOTEBOOKS {
-        // each notebook in a folder of its own, outside the source tree
-        let cwd = outside.join(name.trim_end_matches(".ipynb"));
-        std::fs::create_dir_all(&cwd).unwrap();
         let executed = scratch.join(name);
         let start = Instant::now();
         let cells = run(
-            env.command(&env.python, &cwd)
+            // the notebook's own folder is the kernel's working folder, as in Jupyter
+            env.command(&env.python, &notebook_dir())
                 .arg(root.join("scripts/run-notebook.py"))
                 .arg(notebook_dir().join(name))
                 .arg(&executed)
                 .env("PENDULUM_FEM_RESULTS_CSV", &results)
-                .env("PENDULUM_FEM_THETA_CSV", &theta_csv)
                 .env("PENDULUM_FEM_FMU", &fmu)
                 // the kernel's own backend draws the figures into the outputs
                 .env_remove("MPLBACKEND"),
@@ -137,9 +157,16 @@ fn every_notebook_runs_against_the_installed_wheel() {
             executed.display()
         ));
     }
+    common::assert_no_new_files(&before, &common::source_tree_files(), "running the notebooks");
 
     // θ(t) of the basics notebook is the CLI's: the same doubles, bit for bit (both are the same
     // steps of the same code; any difference is a bug, not rounding)
+    let theta_csv = theta_csv_written_by(&scratch.join(NOTEBOOKS[0]));
+    assert!(
+        !theta_csv.starts_with(root),
+        "the notebook wrote θ(t) into the checkout: {}",
+        theta_csv.display()
+    );
     let cli_rows = time_and_theta_bits(&results);
     let notebook_rows = time_and_theta_bits(&theta_csv);
     assert_eq!(cli_rows.len(), 101, "the CLI's default run: 1 s in steps of 10 ms");
@@ -159,5 +186,7 @@ fn every_notebook_runs_against_the_installed_wheel() {
         "01-basics.ipynb: θ(t) equals the CLI's results.csv bit for bit ({} rows)",
         cli_rows.len()
     ));
-    let _ = std::fs::remove_dir_all(&outside);
+    if let Some(folder) = theta_csv.parent() {
+        let _ = std::fs::remove_dir_all(folder);
+    }
 }

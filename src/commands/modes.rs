@@ -17,11 +17,14 @@
 //! `n` elastic modes are computed (1 to [`MAX_MODES`] = 50) besides the rigid one, by shift-invert
 //! Lanczos about [`modal::rest_shift`]. Files in the output folder: `modes.json` (the table,
 //! the checks and the timings), `modes.pvd` with `modes/mode_NN.vtu` (mode 0 the rigid rotation;
-//! [`crate::render::modes`]) and `modes.png` (the first elastic modes).
+//! [`crate::render::modes`]) and `modes.png` (the first elastic modes). The command line picks the
+//! folder as a run does ([`crate::commands::run::outdir::MODES_OUTPUTS`]): a fresh
+//! `output.dir/modes-NNNN`, or `--out DIR`, refused when not empty unless `--force`.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::commands::run::outdir::names;
 use crate::config::WallKind;
 use crate::modal::{self, Modes};
 use crate::render::modes::{write_modes_png, write_modes_pvd, ModeView};
@@ -233,7 +236,7 @@ pub fn modes_command(cfg: &Config, n: usize, out_dir: &Path) -> Result<ModesRepo
         })
         .collect();
     let mut files = write_modes_pvd(out_dir, mesh, &views)?;
-    let png = out_dir.join("modes.png");
+    let png = out_dir.join(names::MODES_PNG);
     write_modes_png(&png, mesh, &views[1..])?;
     files.push(png);
     let mut report = ModesReport {
@@ -249,7 +252,7 @@ pub fn modes_command(cfg: &Config, n: usize, out_dir: &Path) -> Result<ModesRepo
         seconds_eigen: c.seconds[2],
         files,
     };
-    let json = out_dir.join("modes.json");
+    let json = out_dir.join(names::MODES_JSON);
     let text = serde_json::to_string_pretty(&report.to_json()).expect("JSON of numbers and strings");
     crate::store::write_atomically(&json, |w| writeln!(w, "{text}"))?;
     report.files.insert(0, json);

@@ -34,6 +34,42 @@ pub fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// Every file and folder of the checkout outside `target/` and `.git/`, relative to the root: what
+/// a test compares before and after running what a reader runs, to find files left in the source
+/// tree (ignored ones too, as `git status --porcelain --ignored` would list them).
+pub fn source_tree_files() -> std::collections::BTreeSet<PathBuf> {
+    let root = root();
+    let mut found = std::collections::BTreeSet::new();
+    let mut stack = vec![root.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&dir) else { continue };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            let rel = path.strip_prefix(root).unwrap().to_path_buf();
+            if rel == Path::new("target") || rel == Path::new(".git") {
+                continue;
+            }
+            if entry.file_type().is_ok_and(|t| t.is_dir()) {
+                stack.push(path);
+            }
+            found.insert(rel);
+        }
+    }
+    found
+}
+
+/// Fails naming every entry of the checkout that is in `after` but not in `before` (both from
+/// [`source_tree_files`]); `what` says what ran in between.
+#[track_caller]
+pub fn assert_no_new_files(
+    before: &std::collections::BTreeSet<PathBuf>,
+    after: &std::collections::BTreeSet<PathBuf>,
+    what: &str,
+) {
+    let new: Vec<String> = after.difference(before).map(|p| p.display().to_string()).collect();
+    assert!(new.is_empty(), "{what} left files in the checkout: {}", new.join(", "));
+}
+
 /// A fresh, empty folder `<test>-<name>-<process>-<n>` under cargo's temporary folder for
 /// integration tests (`target/tmp`): a new one on every call, so that tests running in parallel
 /// threads never share one (`<test>` is the test file's name).

@@ -21,10 +21,12 @@
 //!   ([`pendulum_fem_core::Simulation::build`], as every simulation here is built).
 //! * **State**: `snapshot()`/`restore()` as bytes ([`pendulum_fem_core::Snapshot::to_bytes`]) and
 //!   pickling (the configuration as TOML and the snapshot).
-//! * **Errors**: the Rust message in a Python exception: `ValueError` for invalid input (a bad
-//!   key names the key), `ConvergenceError` (a `RuntimeError`) for a failed step,
-//!   `OutsideModelError` (a `RuntimeError`) for a step that the model does not cover (its message
-//!   names the cause and what to change; a smaller step does not help), `OSError` for files.
+//! * **Errors**: the Rust message in a Python exception (`errors.rs`): `ValueError` for invalid
+//!   input, `UnknownKeyError` (a `KeyError` and a `ValueError`) for a configuration key that names
+//!   nothing (the key and the keys allowed where it fails), `ConvergenceError` (a `RuntimeError`)
+//!   for a failed step, `OutsideModelError` (a `RuntimeError`) for a step that the model does not
+//!   cover (its message names the cause and what to change; a smaller step does not help), the
+//!   `OSError` of the cause for files (`FileNotFoundError` for a missing one).
 
 mod errors;
 mod overrides;
@@ -78,6 +80,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(internal_steps, m)?)?;
     m.add("ConvergenceError", m.py().get_type::<ConvergenceError>())?;
     m.add("OutsideModelError", m.py().get_type::<OutsideModelError>())?;
+    m.add("UnknownKeyError", errors::unknown_key_error(m.py())?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     study::register(m)?;
     Ok(())

@@ -6,9 +6,9 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-use pendulum_fem_core::Config;
+use pendulum_fem_core::{Config, Error};
 
-use crate::errors::py_err;
+use crate::errors::{os_error, py_err, unknown_key};
 
 /// A Python value as a TOML value (`None`: no value, the key keeps its default).
 fn toml_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<toml::Value>> {
@@ -77,42 +77,77 @@ pub(crate) fn flatten(dict: &Bound<'_, PyDict>, out: &mut Vec<String>) -> PyResu
     Ok(())
 }
 
-/// The keys of `overrides` (`key=value`) that name nothing in the configuration: a part of the key
-/// missing from a section of the default configuration (as JSON; `None` fields are `null`, so every
-/// key is there). Only used to name the key in an error the library already reported.
-fn unknown_keys(overrides: &[String]) -> Vec<String> {
+/// The first key of `keys` (dotted) that names nothing in the configuration, with the section
+/// where it fails and the keys allowed there: walked through the default configuration as JSON
+/// (`None` fields are `null`, so every key is there; below a value that is no section nothing is
+/// checked). Only used to name the key of an error the library already reported.
+fn first_unknown_key(keys: impl IntoIterator<Item = String>) -> Option<(String, String, Vec<String>)> {
     let defaults = serde_json::to_value(Config::default()).unwrap_or(serde_json::Value::Null);
-    let mut unknown = Vec::new();
-    for o in overrides {
-        let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k).trim();
+    keys.into_iter().find_map(|key| {
         let mut node = &defaults;
+        let mut section: Vec<&str> = Vec::new();
         for part in key.split('.') {
-            match node.as_object() {
-                Some(section) => match section.get(part) {
-                    Some(next) => node = next,
-                    None => {
-                        unknown.push(key.to_string());
-                        break;
-                    }
-                },
-                None => break,
+            let fields = node.as_object()?;
+            match fields.get(part) {
+                Some(next) => {
+                    node = next;
+                    section.push(part);
+                }
+                None => {
+                    let allowed = fields.keys().cloned().collect();
+                    return Some((key.clone(), section.join("."), allowed));
+                }
             }
         }
-    }
-    unknown
+        None
+    })
 }
 
-/// Loads a configuration as the CLI does (`--config FILE --set …`); an unknown key is a
-/// `ValueError` that names it.
-pub(crate) fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResult<Config> {
-    Config::load(path.as_deref(), overrides).map_err(|e| {
-        let message = e.to_string();
-        let unknown = unknown_keys(overrides);
-        if pendulum_fem_core::config::reports_an_unknown_key(&message) && !unknown.is_empty() {
-            let keys: Vec<String> = unknown.iter().map(|k| format!("`{k}`")).collect();
-            PyValueError::new_err(format!("unknown configuration key {} ({message})", keys.join(", ")))
+/// The dotted keys of the leaves of a TOML table (the keys a configuration file sets).
+fn file_keys(prefix: &str, table: &toml::Table, out: &mut Vec<String>) {
+    for (k, v) in table {
+        let key = if prefix.is_empty() {
+            k.clone()
         } else {
-            py_err(e)
+            format!("{prefix}.{k}")
+        };
+        match v {
+            toml::Value::Table(t) => file_keys(&key, t, out),
+            _ => out.push(key),
+        }
+    }
+}
+
+/// Loads a configuration as the CLI does (`--config FILE --set …`). A file that cannot be opened
+/// is the `OSError` of its cause (`FileNotFoundError`); an unknown key, in the file or the
+/// overrides, an `UnknownKeyError` naming it and the keys allowed where it fails.
+pub(crate) fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResult<Config> {
+    if let Some(p) = &path {
+        std::fs::File::open(p).map_err(|e| os_error(p, &e))?;
+    }
+    Config::load(path.as_deref(), overrides).map_err(|e| {
+        let Error::Config(message) = &e else {
+            return py_err(e);
+        };
+        if !pendulum_fem_core::config::reports_an_unknown_key(message) {
+            return py_err(e);
+        }
+        let mut keys = Vec::new();
+        if let Some(table) = path
+            .as_ref()
+            .and_then(|p| std::fs::read_to_string(p).ok())
+            .and_then(|text| text.parse::<toml::Table>().ok())
+        {
+            file_keys("", &table, &mut keys);
+        }
+        keys.extend(
+            overrides
+                .iter()
+                .map(|o| o.split_once('=').map_or(o.as_str(), |(k, _)| k).trim().to_string()),
+        );
+        match first_unknown_key(keys) {
+            Some((key, section, allowed)) => unknown_key(&key, &section, &allowed),
+            None => py_err(e),
         }
     })
 }

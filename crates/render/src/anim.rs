@@ -29,7 +29,7 @@
 //!
 //! [`KeptFrames`] holds at most `output.max_frames` frames whatever the run length: when full, it
 //! drops every second frame and doubles its stride. A kept frame stores the elastic displacement,
-//! |u|, the elastic |u| and von Mises per node in `f32` (enough for pictures), about 20 bytes per node.
+//! its magnitude and von Mises per node in `f32` (enough for pictures), 16 bytes per node.
 //!
 //! GIF frames index a fixed 256-colour palette directly (200 colour-map entries, greys, a red):
 //! no colour quantisation. Frames are rasterised and LZW-compressed in parallel (rayon), a chunk

@@ -13,6 +13,7 @@
 
 use std::path::{Path, PathBuf};
 
+use pendulum_fem_run::outdir::names;
 use plotters::prelude::*;
 
 use super::plot::{render_png, DrawResult, Root};
@@ -55,7 +56,7 @@ pub fn display_scale(mesh: &Mesh, shape: &[f64]) -> f64 {
 
 /// Writes `dir/modes/mode_NN.vtu` for every mode and `dir/modes.pvd`; returns the files.
 pub fn write_modes_pvd(dir: &Path, mesh: &Mesh, modes: &[ModeView<'_>]) -> Result<Vec<PathBuf>, Error> {
-    let sub = dir.join("modes");
+    let sub = dir.join(names::MODES_DIR);
     std::fs::create_dir_all(&sub).map_err(|e| Error::io(&sub, e))?;
     let mut written = Vec::new();
     let mut entries = Vec::new();
@@ -91,9 +92,9 @@ pub fn write_modes_pvd(dir: &Path, mesh: &Mesh, modes: &[ModeView<'_>]) -> Resul
             },
         )?;
         written.push(path);
-        entries.push((m.number, format!("modes/{name}")));
+        entries.push((m.number, format!("{}/{name}", names::MODES_DIR)));
     }
-    let pvd = dir.join("modes.pvd");
+    let pvd = dir.join(names::MODES_PVD);
     pendulum_fem_core::store::write_atomically(&pvd, |w| {
         writeln!(w, r#"<?xml version="1.0"?>"#)?;
         writeln!(

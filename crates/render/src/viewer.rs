@@ -1,14 +1,16 @@
 //! `viewer.html`: one self-contained page that plays the swing in any browser, offline.
 //!
-//! The page (template `src/io/viewer.html`, compiled in) has no external scripts, styles, fonts or
+//! The page (template `viewer.html` beside this file, compiled in) has no external scripts, styles, fonts or
 //! network requests. It shows the deformed mesh (drawn like the animations, see [`super::anim`]:
 //! rigid motion at true scale, elastic part magnified, each six-node triangle as four linear
 //! sub-triangles with the colour interpolated), a colour bar in physical units, play/pause, a time
-//! slider, a field selector (|u| or von Mises) and the θ(t) curve with a marker at the current time.
+//! slider, a field selector and the θ(t) curve with a marker at the current time. The fields are
+//! those of the animations, from the same values (`AnimField::values`): the elastic displacement
+//! `|u − u_rigid|` (the part the picture magnifies, not the rigid swing) and the von Mises stress.
 //!
 //! Element ids (stable, for tests and scripts): `view` (mesh canvas), `theta-plot` (θ canvas),
-//! `time-slider` (range input, one step per frame), `play` (button), `field` (select: `0` = |u|,
-//! `1` = von Mises), `time-label`, `selftest`.
+//! `time-slider` (range input, one step per frame), `play` (button), `field` (select: `0` = the
+//! elastic |u − u_rigid|, `1` = von Mises), `time-label`, `selftest`.
 //!
 //! ## Embedded data
 //!
@@ -17,7 +19,7 @@
 //! - `n_nodes`; `tris`: flat node indices of the linear sub-triangles; `boundary`: flat node pairs
 //!   of the boundary segments; `bounds` `[xmin, ymin, xmax, ymax]` \[m\]; `wall_x` (or `null`);
 //!   `magnification`, `magnification_label`;
-//! - `fields`: `[{name, label, unit, max}]` for |u| \[m\] and von Mises \[Pa\];
+//! - `fields`: `[{name, label, unit, max}]` for |u − u_rigid| \[m\] and von Mises \[Pa\];
 //! - `frames`: per kept frame `{t, theta, step, pos, fields}`. `pos` is base64 of little-endian
 //!   `int16` pairs `(qx, qy)` per node, the drawn position being `pos_offset + pos_scale · q` \[m\]
 //!   (resolution: the picture size / 65534); `fields[k]` is base64 of little-endian `uint16` per
@@ -30,8 +32,10 @@
 //!   band left of `wall_x` and the impacts as shaded spans with a line at each start in the θ plot.
 //!
 //! Loading the page with `#selftest` appended runs a check in the page itself: it hashes the
-//! canvases, moves the slider and switches the field, and writes the verdict (`SELFTEST PASS` or
-//! `SELFTEST FAIL`) into `document.title` and the JSON details (including any script errors) into
+//! canvases, moves the slider and switches the field, counts the colour-map colours drawn over the
+//! plate for each field on the first and the last frame (`plate_colours`), and writes the verdict
+//! (`SELFTEST PASS` or `SELFTEST FAIL`) into `document.title` and the JSON details (including any
+//! script errors and the decoded values of field 0 on the last frame, `last_frame_field0`) into
 //! `#selftest`; `chromium --headless --dump-dom` prints it.
 
 use std::path::Path;
@@ -45,6 +49,10 @@ use super::raster;
 use crate::{Error, Mesh};
 
 const TEMPLATE: &str = include_str!("viewer.html");
+
+/// The fields of the page, in the order of its selector: what `displacement.gif` and
+/// `von_mises.gif` colour, each value per node from [`AnimField::values`].
+const FIELDS: [AnimField; 2] = [AnimField::Displacement, AnimField::VonMises];
 
 /// Writes `viewer.html` for `frames` (time order). `history`, if given, supplies the θ(t) curve.
 pub fn write_viewer(
@@ -75,10 +83,7 @@ pub fn viewer_html(mesh: &Mesh, frames: &[KeptFrame], scene: &Scene, history: Op
     let [x0, y0, x1, y1] = scene.bounds;
     let offset = [0.5 * (x0 + x1), 0.5 * (y0 + y1)];
     let pos_scale = (0.5 * (x1 - x0)).max(0.5 * (y1 - y0)).max(1e-300) / 32767.0;
-    let maxima = [
-        field_max(frames, AnimField::Displacement),
-        field_max(frames, AnimField::VonMises),
-    ];
+    let maxima = FIELDS.map(|field| field_max(frames, field));
 
     let frames_json: Vec<serde_json::Value> = frames
         .iter()
@@ -90,20 +95,25 @@ pub fn viewer_html(mesh: &Mesh, frames: &[KeptFrame], scene: &Scene, history: Op
                     pos.extend_from_slice(&q.to_le_bytes());
                 }
             }
-            let field = |v: &[f32], max: f64| {
-                let mut b = Vec::with_capacity(2 * v.len());
-                for &x in v {
-                    let q = (x as f64 / max * 65535.0).round().clamp(0.0, 65535.0) as u16;
-                    b.extend_from_slice(&q.to_le_bytes());
-                }
-                base64(&b)
-            };
+            let fields: Vec<String> = FIELDS
+                .iter()
+                .zip(maxima)
+                .map(|(field, max)| {
+                    let v = field.values(f);
+                    let mut b = Vec::with_capacity(2 * v.len());
+                    for &x in v {
+                        let q = (x as f64 / max * 65535.0).round().clamp(0.0, 65535.0) as u16;
+                        b.extend_from_slice(&q.to_le_bytes());
+                    }
+                    base64(&b)
+                })
+                .collect();
             json!({
                 "t": f.time,
                 "theta": f.theta,
                 "step": f.step,
                 "pos": base64(&pos),
-                "fields": [field(&f.u_abs, maxima[0]), field(&f.von_mises, maxima[1])],
+                "fields": fields,
             })
         })
         .collect();
@@ -147,8 +157,8 @@ pub fn viewer_html(mesh: &Mesh, frames: &[KeptFrame], scene: &Scene, history: Op
         "pos_offset": offset,
         "pos_scale": pos_scale,
         "fields": [
-            {"name": "|u|", "label": "|u| [m]", "unit": "m", "max": maxima[0]},
-            {"name": "von Mises", "label": "\u{3c3}_vM [Pa]", "unit": "Pa", "max": maxima[1]},
+            {"name": "|u − u_rigid|", "label": AnimField::Displacement.bar_title(), "unit": "m", "max": maxima[0]},
+            {"name": "von Mises", "label": AnimField::VonMises.bar_title(), "unit": "Pa", "max": maxima[1]},
         ],
         "frames": frames_json,
         "theta_curve": {"t": curve_t, "theta_deg": curve_theta},

@@ -1,16 +1,20 @@
-//! Where a run writes: a fresh numbered folder per run, or one the user names.
+//! Where a run (and `pendulum-fem modes`) writes: a fresh numbered folder per run, or one the user
+//! names. What differs between the commands is in their [`Outputs`] ([`RUN_OUTPUTS`],
+//! [`MODES_OUTPUTS`]); the rules are the same:
 //!
-//! - Without an explicit folder, every run gets `BASE/run-NNNN` with the next free number (one more
-//!   than the largest existing `run-*`), created with `create_dir` and retried on a collision, so
-//!   two runs started at once never share a folder. `BASE/latest` then points at it: a relative
-//!   symbolic link on Unix, replaced atomically (link under a temporary name, then rename); where
-//!   links cannot be made, `BASE/latest.txt` holds the folder name instead.
-//! - An explicit folder (`--out`) is used as it is; if it exists and holds anything, the run is
+//! - Without an explicit folder, every run gets `BASE/run-NNNN` (`BASE/modes-NNNN` for the modes)
+//!   with the next free number (one more than the largest existing one of that prefix), created
+//!   with `create_dir` and retried on a collision, so two runs started at once never share a
+//!   folder. For runs, `BASE/latest` then points at it: a relative symbolic link on Unix, replaced
+//!   atomically (link under a temporary name, then rename); where links cannot be made,
+//!   `BASE/latest.txt` holds the folder name instead.
+//! - An explicit folder (`--out`) is used as it is; if it exists and holds anything, the command is
 //!   refused unless `force` is set, and the refusal changes nothing on disk. With `force`, every
-//!   file a run writes ([`RUN_FILES`], `frames/step_*.vtu` and unfinished `*.partial` files) is
-//!   removed first, so no file of an earlier (say longer) run survives to mix with the new one;
-//!   other files are left alone. Call [`prepare_output_dir`] before any computing, so a refused run
-//!   costs nothing.
+//!   file the command writes (for a run [`RUN_FILES`], `frames/step_*.vtu` and unfinished
+//!   `*.partial` files; for the modes [`MODES_FILES`] and `modes/mode_*.vtu`) is removed first, so
+//!   no file of an earlier (say longer) run survives to mix with the new one; other files are left
+//!   alone. Call [`Outputs::prepare`] ([`prepare_output_dir`] for a run) before any computing, so a
+//!   refused command costs nothing.
 
 use std::path::{Path, PathBuf};
 
@@ -38,6 +42,14 @@ pub mod names {
     pub const PVD_NAME: &str = "pendulum.pvd";
     /// The folder of the ParaView frames (`step_NNNNN.vtu`).
     pub const FRAMES_DIR: &str = "frames";
+    /// The table of the modes, their checks and timings (`pendulum-fem modes`).
+    pub const MODES_JSON: &str = "modes.json";
+    /// The ParaView collection of the mode shapes.
+    pub const MODES_PVD: &str = "modes.pvd";
+    /// The picture of the first elastic modes.
+    pub const MODES_PNG: &str = "modes.png";
+    /// The folder of the mode shapes (`mode_NN.vtu`).
+    pub const MODES_DIR: &str = "modes";
     /// The latest snapshot of a run with checkpoints ([`pendulum_fem_core::Snapshot::to_bytes`]).
     pub const CHECKPOINT_SNAP: &str = "checkpoint.snap";
     /// The configuration of a run with checkpoints, read by `run --restart`.
@@ -46,6 +58,8 @@ pub mod names {
 
 /// Prefix of the numbered run folders.
 pub const RUN_PREFIX: &str = "run-";
+/// Prefix of the numbered folders of `pendulum-fem modes`.
+pub const MODES_PREFIX: &str = "modes-";
 /// Name of the pointer to the newest run folder.
 pub const LATEST: &str = "latest";
 
@@ -65,99 +79,152 @@ pub const RUN_FILES: [&str; 12] = [
     names::PVD_NAME,
 ];
 
-/// Removes what a run writes from `dir` (see the module documentation); `frames/` goes too when
-/// nothing else is left in it.
+/// Files `pendulum-fem modes` writes at the top of its folder (besides `modes/`).
+pub const MODES_FILES: [&str; 3] = [names::MODES_JSON, names::MODES_PVD, names::MODES_PNG];
+
+/// What one command writes into its output folder: the names the rules of the module
+/// documentation act on.
+#[derive(Clone, Copy, Debug)]
+pub struct Outputs {
+    /// What the refusal of a non-empty folder calls an earlier use of it ("run").
+    pub what: &'static str,
+    /// Prefix of the numbered folders.
+    pub prefix: &'static str,
+    /// The files at the top of the folder.
+    pub files: &'static [&'static str],
+    /// The subfolder of one file per frame or mode, and the prefix and extension of those files.
+    pub items: (&'static str, &'static str, &'static str),
+    /// Whether `BASE/latest` points at the newest numbered folder.
+    pub latest: bool,
+}
+
+/// What a run writes.
+pub const RUN_OUTPUTS: Outputs = Outputs {
+    what: "run",
+    prefix: RUN_PREFIX,
+    files: &RUN_FILES,
+    items: (names::FRAMES_DIR, "step_", ".vtu"),
+    latest: true,
+};
+
+/// What `pendulum-fem modes` writes.
+pub const MODES_OUTPUTS: Outputs = Outputs {
+    what: "modal analysis",
+    prefix: MODES_PREFIX,
+    files: &MODES_FILES,
+    items: (names::MODES_DIR, "mode_", ".vtu"),
+    latest: false,
+};
+
+/// Removes what a run writes from `dir` ([`RUN_OUTPUTS`]; see [`Outputs::clear`]).
 pub fn clear_run_outputs(dir: &Path) -> Result<(), Error> {
-    let remove = |path: &Path| match std::fs::remove_file(path) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io(path, e)),
-        _ => Ok(()),
-    };
-    let is_run_file = |name: &str| {
-        RUN_FILES
-            .iter()
-            .any(|f| name == *f || name.starts_with(&format!("{f}.")))
-    };
-    for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
-        let entry = entry.map_err(|e| Error::io(dir, e))?;
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if RUN_FILES.contains(&name.as_str()) || (is_run_file(&name) && name.ends_with(".partial")) {
-            remove(&entry.path())?;
-        }
-    }
-    let frames = dir.join(names::FRAMES_DIR);
-    if frames.is_dir() {
-        for entry in std::fs::read_dir(&frames).map_err(|e| Error::io(&frames, e))? {
-            let entry = entry.map_err(|e| Error::io(&frames, e))?;
+    RUN_OUTPUTS.clear(dir)
+}
+
+/// The folder a run writes to ([`RUN_OUTPUTS`]; see [`Outputs::prepare`]).
+pub fn prepare_output_dir(base: &Path, explicit: Option<&Path>, force: bool) -> Result<PathBuf, Error> {
+    RUN_OUTPUTS.prepare(base, explicit, force)
+}
+
+impl Outputs {
+    /// Removes what this command writes from `dir` (see the module documentation); the items'
+    /// subfolder goes too when nothing else is left in it.
+    pub fn clear(&self, dir: &Path) -> Result<(), Error> {
+        let remove = |path: &Path| match std::fs::remove_file(path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io(path, e)),
+            _ => Ok(()),
+        };
+        let is_own_file = |name: &str| {
+            self.files
+                .iter()
+                .any(|f| name == *f || name.starts_with(&format!("{f}.")))
+        };
+        for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
+            let entry = entry.map_err(|e| Error::io(dir, e))?;
             let name = entry.file_name().to_string_lossy().into_owned();
-            if name.starts_with("step_") && (name.ends_with(".vtu") || name.ends_with(".partial")) {
+            if self.files.contains(&name.as_str()) || (is_own_file(&name) && name.ends_with(".partial")) {
                 remove(&entry.path())?;
             }
         }
-        let _ = std::fs::remove_dir(&frames); // only if empty
-    }
-    Ok(())
-}
-
-/// Returns the folder this run writes to, created and empty (unless `force` let an explicit,
-/// non-empty one through). See the module documentation for the rules.
-pub fn prepare_output_dir(base: &Path, explicit: Option<&Path>, force: bool) -> Result<PathBuf, Error> {
-    match explicit {
-        Some(dir) => prepare_explicit(dir, force),
-        None => {
-            let dir = create_numbered(base)?;
-            update_latest(base, &dir);
-            Ok(dir)
-        }
-    }
-}
-
-fn prepare_explicit(dir: &Path, force: bool) -> Result<PathBuf, Error> {
-    match std::fs::metadata(dir) {
-        Ok(m) if !m.is_dir() => Err(Error::Config(format!(
-            "--out {}: exists and is not a folder; name a folder (new or empty)",
-            dir.display()
-        ))),
-        Ok(_) => {
-            let mut entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
-            if entries.next().is_some() && !force {
-                return Err(Error::Config(format!(
-                    "--out {}: the folder is not empty; refusing to write into it (nothing was changed). \
-                     Pass --force to write there anyway (the outputs of an earlier run are removed first, \
-                     other files are kept), or choose another folder",
-                    dir.display()
-                )));
+        let (folder, prefix, ext) = self.items;
+        let items = dir.join(folder);
+        if items.is_dir() {
+            for entry in std::fs::read_dir(&items).map_err(|e| Error::io(&items, e))? {
+                let entry = entry.map_err(|e| Error::io(&items, e))?;
+                let name = entry.file_name().to_string_lossy().into_owned();
+                if name.starts_with(prefix) && (name.ends_with(ext) || name.ends_with(".partial")) {
+                    remove(&entry.path())?;
+                }
             }
-            if force {
-                clear_run_outputs(dir)?;
+            let _ = std::fs::remove_dir(&items); // only if empty
+        }
+        Ok(())
+    }
+
+    /// Returns the folder this command writes to, created and empty (unless `force` let an
+    /// explicit, non-empty one through). See the module documentation for the rules.
+    pub fn prepare(&self, base: &Path, explicit: Option<&Path>, force: bool) -> Result<PathBuf, Error> {
+        match explicit {
+            Some(dir) => self.prepare_explicit(dir, force),
+            None => {
+                let dir = create_numbered(base, self.prefix)?;
+                if self.latest {
+                    update_latest(base, &dir);
+                }
+                Ok(dir)
             }
-            Ok(dir.to_path_buf())
         }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-            Ok(dir.to_path_buf())
+    }
+
+    fn prepare_explicit(&self, dir: &Path, force: bool) -> Result<PathBuf, Error> {
+        match std::fs::metadata(dir) {
+            Ok(m) if !m.is_dir() => Err(Error::Config(format!(
+                "--out {}: exists and is not a folder; name a folder (new or empty)",
+                dir.display()
+            ))),
+            Ok(_) => {
+                let mut entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
+                if entries.next().is_some() && !force {
+                    return Err(Error::Config(format!(
+                        "--out {}: the folder is not empty; refusing to write into it (nothing was changed). \
+                         Pass --force to write there anyway (the outputs of an earlier {} are removed first, \
+                         other files are kept), or choose another folder",
+                        dir.display(),
+                        self.what
+                    )));
+                }
+                if force {
+                    self.clear(dir)?;
+                }
+                Ok(dir.to_path_buf())
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+                Ok(dir.to_path_buf())
+            }
+            Err(e) => Err(Error::io(dir, e)),
         }
-        Err(e) => Err(Error::io(dir, e)),
     }
 }
 
-/// Number of a `run-NNNN` folder name.
-fn run_number(name: &str) -> Option<u64> {
-    name.strip_prefix(RUN_PREFIX)
+/// Number of a numbered folder's name (`run-0007` with the prefix `run-`).
+fn folder_number(name: &str, prefix: &str) -> Option<u64> {
+    name.strip_prefix(prefix)
         .filter(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))?
         .parse()
         .ok()
 }
 
-fn create_numbered(base: &Path) -> Result<PathBuf, Error> {
+fn create_numbered(base: &Path, prefix: &str) -> Result<PathBuf, Error> {
     std::fs::create_dir_all(base).map_err(|e| Error::io(base, e))?;
     let mut next = std::fs::read_dir(base)
         .map_err(|e| Error::io(base, e))?
         .filter_map(|e| e.ok())
-        .filter_map(|e| run_number(&e.file_name().to_string_lossy()))
+        .filter_map(|e| folder_number(&e.file_name().to_string_lossy(), prefix))
         .max()
         .map_or(1, |n| n + 1);
     for _ in 0..10_000 {
-        let dir = base.join(format!("{RUN_PREFIX}{next:04}"));
+        let dir = base.join(format!("{prefix}{next:04}"));
         match std::fs::create_dir(&dir) {
             Ok(()) => return Ok(dir),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => next += 1,
@@ -166,7 +233,9 @@ fn create_numbered(base: &Path) -> Result<PathBuf, Error> {
     }
     Err(Error::io(
         base,
-        std::io::Error::other("could not create a fresh run-NNNN folder after 10000 tries"),
+        std::io::Error::other(format!(
+            "could not create a fresh {prefix}NNNN folder after 10000 tries"
+        )),
     ))
 }
 
@@ -193,12 +262,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn run_numbers_parse_only_run_folders() {
-        assert_eq!(run_number("run-0007"), Some(7));
-        assert_eq!(run_number("run-12345"), Some(12345));
-        assert_eq!(run_number("run-"), None);
-        assert_eq!(run_number("run-1a"), None);
-        assert_eq!(run_number("latest"), None);
+    fn folder_numbers_parse_only_the_folders_of_their_prefix() {
+        assert_eq!(folder_number("run-0007", RUN_PREFIX), Some(7));
+        assert_eq!(folder_number("run-12345", RUN_PREFIX), Some(12345));
+        assert_eq!(folder_number("run-", RUN_PREFIX), None);
+        assert_eq!(folder_number("run-1a", RUN_PREFIX), None);
+        assert_eq!(folder_number("latest", RUN_PREFIX), None);
+        assert_eq!(folder_number("modes-0003", RUN_PREFIX), None);
+        assert_eq!(folder_number("modes-0003", MODES_PREFIX), Some(3));
     }
 
     #[test]

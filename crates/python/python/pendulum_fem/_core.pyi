@@ -1,7 +1,7 @@
 """Type stubs of the Rust extension module ``pendulum_fem._core`` (re-exported by ``pendulum_fem``)."""
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -17,6 +17,17 @@ class ConvergenceError(RuntimeError):
 class OutsideModelError(RuntimeError):
     """A time step leads outside what the model covers (the message names the cause and what to
     change); the simulation is left exactly as before the call."""
+
+
+class UnknownKeyError(KeyError, ValueError):
+    """A configuration key that names nothing: ``key`` is the dotted key, ``allowed`` the keys
+    allowed where it fails (the section's, or the sections at the top level). A ``KeyError`` and a
+    ``ValueError``, so either ``except`` catches it."""
+
+    key: Optional[str]
+    allowed: List[str]
+
+    def __init__(self, message: str, key: Optional[str] = None, allowed: Sequence[str] = ()) -> None: ...
 
 def csv_columns(wall: bool = False) -> List[str]:
     """The header of ``results.csv``: the column names of :meth:`Simulation.run`; with
@@ -45,8 +56,10 @@ class Simulation:
         Simulation({"material": {"youngs_modulus": 1e7}})
         Simulation(**{"material.youngs_modulus": 1e7, "initial.angle_deg": 45})
 
-    A value of ``None`` leaves a key as it is. Invalid keys or values raise ``ValueError`` with the
-    library's message naming the key (``pendulum-fem init`` writes every key with its unit).
+    A value of ``None`` leaves a key as it is. An unknown key raises :class:`UnknownKeyError` (a
+    ``KeyError`` and a ``ValueError``) naming it and the keys allowed there, a bad value
+    ``ValueError`` with the library's message naming the key (``pendulum-fem init`` writes every
+    key with its unit), a file that cannot be read its ``OSError`` (``FileNotFoundError``).
     """
 
     def __init__(self, config: Union[str, "os.PathLike[str]", Mapping[str, Any], None] = None, **overrides: Any) -> None: ...

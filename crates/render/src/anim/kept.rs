@@ -14,11 +14,9 @@ pub struct KeptFrame {
     pub theta: f64,
     /// Elastic displacement `u − (R(θ)X − X)` per node \[m\].
     pub elastic: Vec<[f32; 2]>,
-    /// |u| per node \[m\] (the viewer's displacement field).
-    pub u_abs: Vec<f32>,
-    /// |elastic| per node \[m\]: what `displacement.gif` colours. The total |u| is nearly all rigid
-    /// rotation, while the shape drawn magnifies the elastic part: colouring |u| would show the
-    /// swing's angle, not the deformation drawn.
+    /// |elastic| per node \[m\]: what `displacement.gif` and the viewer colour. The total |u| is
+    /// nearly all rigid rotation, while the shape drawn magnifies the elastic part: colouring |u|
+    /// would show the swing's angle, not the deformation drawn.
     pub elastic_abs: Vec<f32>,
     /// Von Mises stress per node \[Pa\].
     pub von_mises: Vec<f32>,
@@ -56,7 +54,6 @@ impl KeptFrame {
             theta: frame.theta,
             elastic_abs: elastic.iter().map(|e| e[0].hypot(e[1])).collect(),
             elastic,
-            u_abs: frame.displacement.iter().map(|u| u[0].hypot(u[1]) as f32).collect(),
             von_mises: frame.von_mises.iter().map(|&v| v as f32).collect(),
             rotating,
         }
@@ -188,7 +185,6 @@ mod tests {
             time: step as f64,
             theta: 0.0,
             elastic: vec![],
-            u_abs: vec![],
             elastic_abs: vec![],
             von_mises: vec![],
             rotating: 0,
@@ -225,7 +221,6 @@ mod tests {
         // f32 storage: the rigid part of 0.06 m cancels to within its rounding, ~1e-8 m
         assert!(shown[0] < 1e-8, "rigid node coloured {}", shown[0]);
         assert!((shown[1] - 1e-6).abs() < 2e-8, "elastic node coloured {}", shown[1]);
-        assert!(f.u_abs[0] > 0.05, "the viewer's |u| stays the total: {}", f.u_abs[0]);
     }
 
     #[test]

@@ -16,7 +16,8 @@ pub enum AnimField {
 }
 
 impl AnimField {
-    pub(super) fn values(self, f: &KeptFrame) -> &[f32] {
+    /// The field's value per node of `f`: the one definition the animations and the viewer colour.
+    pub(crate) fn values(self, f: &KeptFrame) -> &[f32] {
         match self {
             Self::Displacement => &f.elastic_abs,
             Self::VonMises => &f.von_mises,
@@ -30,7 +31,8 @@ impl AnimField {
         }
     }
 
-    fn bar_title(self) -> &'static str {
+    /// The field and its unit, as the colour bars of the animations and the viewer name it.
+    pub(crate) fn bar_title(self) -> &'static str {
         match self {
             Self::Displacement => "|u − u_rigid| [m]",
             Self::VonMises => "σ_vM [Pa]",
