@@ -279,9 +279,17 @@ fn files_below(dir: &std::path::Path) -> Vec<String> {
 fn sigint_stops_at_a_step_boundary_with_consistent_outputs_and_exit_130() {
     let dir = common::scratch("sigint");
     let out = dir.join("out");
-    // 500 steps take several seconds; the interrupt comes after about 20 frames
+    // 500 steps take several seconds; the interrupt comes after about 20 frames, one per step
     let mut child = common::bin()
-        .args(["run", "--quiet", "--set", "time.end=5", "--out"])
+        .args([
+            "run",
+            "--quiet",
+            "--set",
+            "time.end=5",
+            "--set",
+            "output.every=1",
+            "--out",
+        ])
         .arg(&out)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
@@ -343,8 +351,16 @@ fn force_over_a_longer_earlier_run_leaves_no_file_of_it() {
     let out = dir.join("out");
     let run = |end: &str, force: bool| {
         let mut c = common::bin();
-        c.args(["run", "--quiet", "--set", &format!("time.end={end}"), "--out"])
-            .arg(&out);
+        c.args([
+            "run",
+            "--quiet",
+            "--set",
+            &format!("time.end={end}"),
+            "--set",
+            "output.every=1",
+            "--out",
+        ])
+        .arg(&out);
         if force {
             c.arg("--force");
         }
@@ -372,6 +388,8 @@ fn force_over_a_longer_earlier_run_leaves_no_file_of_it() {
             "time.end=0.1",
             "--set",
             "output.plots=false",
+            "--set",
+            "output.every=1",
         ])
         .args(["--set", "output.animation=false", "--out"])
         .arg(&out)

@@ -39,6 +39,8 @@ fn run_case(name: &str, wall: bool, end: f64) -> (PathBuf, RunSummary) {
         config.wall.kind = WallKind::Rigid;
     }
     config.time.end = end;
+    // every step a frame: the frames are compared with the steps inside and outside the impacts
+    config.output.every = 1;
     let summary = run_job(&options(config, &dir)).unwrap();
     (dir, summary)
 }
