@@ -35,6 +35,30 @@ fn unknown_keys_are_rejected_with_their_name_line_and_the_nearest_allowed_key() 
 }
 
 #[test]
+fn a_file_with_two_mistakes_reports_both_the_earlier_line_first_and_exits_non_zero() {
+    let dir = common::scratch("two-mistakes");
+    let cfg = dir.join("two.toml");
+    // [time] sorts after [mesh]: the report follows the lines, not the sections' order
+    std::fs::write(&cfg, "[time]\nedn = 2.0\n\n[mesh]\nmax_size = -0.1\n").unwrap();
+    let o = common::bin()
+        .args(["run", "--config"])
+        .arg(&cfg)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let msg = stderr(&o);
+    let first = msg.find("unknown key \"edn\" in [time] at line 2; did you mean \"end\"?");
+    let second = msg.find("mesh.max_size = -0.1: allowed a finite value > 0 m (at line 5)");
+    assert!(
+        msg.contains("2 mistakes") && first.is_some() && second.is_some() && first < second,
+        "{msg}"
+    );
+    assert!(!dir.join("out").join("results.csv").exists());
+}
+
+#[test]
 fn out_of_range_values_name_the_key_and_the_allowed_range() {
     for (set, key) in [
         ("mesh.max_size=-0.1", "mesh.max_size"),
