@@ -12,6 +12,11 @@
 //! range ([`Config::validate`]), each message naming the key (`mesh.max_size`) and the allowed
 //! range.
 //!
+//! **Keys without effect**: the keys the file and the overrides named are kept with the
+//! configuration ([`Config::load_given`], [`GivenKeys`]), and [`Config::ineffective_keys`] names
+//! those that the configuration does not use, with what would make them act: the one rule the
+//! CLI, the Python package and the FMU warn by.
+//!
 //! All quantities are SI: metres, kilograms, seconds, pascals, newtons, radians unless a key says
 //! `_deg`.
 //!
@@ -19,13 +24,14 @@
 //! `[material]`, `[gravity]`; `initial`; `time`: `[time]`, `[solver]`; `torque`; `wall`: `[wall]`,
 //! `[contact]`; `output`; `model`), `ranges` (the range checks and the report of the mistakes),
 //! `read` (files and text), `overrides` (`--set`), `given` (the keys given and where),
-//! `unknown_key` (the message for a misspelled key); the commented default file is
-//! `default_config.toml` ([`commented_default`]).
+//! `ineffective` (the keys without effect), `unknown_key` (the message for a misspelled key); the
+//! commented default file is `default_config.toml` ([`commented_default`]).
 
 use serde::{Deserialize, Serialize};
 
 mod geometry;
 mod given;
+mod ineffective;
 mod initial;
 mod material;
 mod model;
@@ -40,6 +46,7 @@ mod wall;
 
 pub use geometry::{Geometry, MeshConfig, MeshSizes};
 pub use given::{GivenKey, GivenKeys, Place};
+pub use ineffective::{Ineffective, Use};
 pub use initial::{Initial, InitialAcceleration, InitialElastic};
 pub use material::{Gravity, Material, MaterialModel, Plane};
 pub use model::{ModelConfig, ModelKind, MAX_MODES};

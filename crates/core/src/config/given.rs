@@ -1,8 +1,12 @@
 //! The keys a user gave: every key a configuration file or a `--set` override names, with its
 //! value as written and where it was written ([`Place`]). A key that only the defaults hold is not
-//! given. The mistakes of a configuration are reported in the order of their places.
+//! given. The warnings about keys without effect ([`Config::ineffective_keys`]) concern given keys
+//! only, and the mistakes of a configuration are reported in the order of their places.
 
 use std::collections::HashMap;
+
+#[cfg(doc)]
+use super::Config;
 
 /// Where a key was written. The order is the order of a report: the lines of the file, then the
 /// `--set` overrides as given, then what no one wrote.

@@ -12,6 +12,7 @@ use serde::Deserialize;
 use std::path::Path;
 
 use super::given::{place_of, GivenKeys, Lines, Place};
+use super::ineffective::{Ineffective, Use};
 use super::overrides::apply_override;
 use super::ranges::{report, Mistake};
 use super::unknown_key::unknown_key_message;
@@ -27,6 +28,14 @@ pub struct Loaded {
     pub given: GivenKeys,
 }
 
+impl Loaded {
+    /// The given keys that have no effect in this configuration under `used`
+    /// ([`Config::ineffective_keys`]).
+    pub fn ineffective(&self, used: Use) -> Vec<Ineffective> {
+        self.config.ineffective_keys(&self.given, used)
+    }
+}
+
 impl Config {
     /// Reads a configuration file (or the defaults when `path` is `None`) and applies
     /// `key=value` overrides, then validates.
@@ -34,7 +43,8 @@ impl Config {
         Self::load_given(path, overrides).map(|loaded| loaded.config)
     }
 
-    /// [`Config::load`], with the keys the file and the overrides gave.
+    /// [`Config::load`], with the keys the file and the overrides gave (for the warnings about
+    /// keys without effect, [`Loaded::ineffective`]).
     pub fn load_given(path: Option<&Path>, overrides: &[String]) -> Result<Loaded, Error> {
         let text = path
             .map(|p| {

@@ -23,6 +23,20 @@ pub enum TorqueProfile {
     Table,
 }
 
+impl TorqueProfile {
+    /// The name in the configuration.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::None => "none",
+            Self::Constant => "constant",
+            Self::Step => "step",
+            Self::Ramp => "ramp",
+            Self::Sine => "sine",
+            Self::Table => "table",
+        }
+    }
+}
+
 /// Actuator torque at the pivot: the one description of the torque profile, which the torque
 /// term ([`crate::terms::Torque`]) keeps and evaluates ([`crate::terms::Torque::value`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
