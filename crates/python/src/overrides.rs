@@ -1,11 +1,13 @@
 //! Configuration from Python: a dict of configuration keys (nested or dotted) and keyword values
 //! as TOML values and the CLI's `key=value` overrides, loaded as the CLI loads them (an unknown key
-//! named), and a configuration written back as portable TOML.
+//! named; the keys given kept for the warnings about keys without effect), and a configuration
+//! written back as portable TOML.
 
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
+use pendulum_fem_core::config::Loaded;
 use pendulum_fem_core::Config;
 
 use crate::errors::py_err;
@@ -102,10 +104,10 @@ fn unknown_keys(overrides: &[String]) -> Vec<String> {
     unknown
 }
 
-/// Loads a configuration as the CLI does (`--config FILE --set …`); an unknown key is a
-/// `ValueError` that names it.
-pub(crate) fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResult<Config> {
-    Config::load(path.as_deref(), overrides).map_err(|e| {
+/// Loads a configuration as the CLI does (`--config FILE --set …`), with the keys the file and the
+/// overrides gave; an unknown key is a `ValueError` that names it.
+pub(crate) fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResult<Loaded> {
+    Config::load_given(path.as_deref(), overrides).map_err(|e| {
         let message = e.to_string();
         let unknown = unknown_keys(overrides);
         if pendulum_fem_core::config::reports_an_unknown_key(&message) && !unknown.is_empty() {

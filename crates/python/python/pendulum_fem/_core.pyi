@@ -46,7 +46,10 @@ class Simulation:
         Simulation(**{"material.youngs_modulus": 1e7, "initial.angle_deg": 45})
 
     A value of ``None`` leaves a key as it is. Invalid keys or values raise ``ValueError`` with the
-    library's message naming the key (``pendulum-fem init`` writes every key with its unit).
+    library's message listing every mistake, each naming its key (``pendulum-fem init`` writes
+    every key with its unit). A key given that has no effect here (``torque.amplitude`` without a
+    torque profile, the ``[output]`` keys, which a Simulation does not write) raises a
+    ``UserWarning`` naming it and what would make it act.
     """
 
     def __init__(self, config: Union[str, "os.PathLike[str]", Mapping[str, Any], None] = None, **overrides: Any) -> None: ...
