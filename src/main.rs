@@ -204,6 +204,9 @@ fn sweep(args: SweepArgs) -> Result<ExitCode, Error> {
         args.file.as_deref(),
     )?;
     study.all_outputs = args.all_outputs;
+    for w in study.ineffective_keys() {
+        eprintln!("warning: {w}");
+    }
     if args.list {
         println!("{}", study.len());
         return Ok(ExitCode::SUCCESS);
@@ -430,8 +433,28 @@ fn modes(args: &ModesArgs) -> Result<(), Error> {
     Ok(())
 }
 
+/// Loads the configuration of `args`, printing a warning for every key in it that has no effect.
 fn load(args: &ConfigArgs) -> Result<Config, Error> {
-    Config::load(args.config.as_deref(), &args.set)
+    load_warning(args).map(|(config, _)| config)
+}
+
+/// [`load`], with the warnings it printed.
+fn load_warning(args: &ConfigArgs) -> Result<(Config, Vec<String>), Error> {
+    let loaded = Config::load_given(args.config.as_deref(), &args.set)?;
+    let warnings = warn(loaded.config.ineffective_keys(&loaded.given, config::Use::Run));
+    Ok((loaded.config, warnings))
+}
+
+/// Prints `warning: …` for each key without effect to stderr; the lines printed.
+fn warn(ineffective: Vec<config::Ineffective>) -> Vec<String> {
+    ineffective
+        .iter()
+        .map(|w| {
+            let line = format!("warning: {w}");
+            eprintln!("{line}");
+            line
+        })
+        .collect()
 }
 
 /// Exit code of a run stopped by Ctrl-C or SIGTERM (128 + SIGINT, the shell's convention).
@@ -459,7 +482,7 @@ fn run(args: RunArgs) -> Result<bool, Error> {
             "--checkpoint-every 0: allowed N >= 1 (steps between checkpoints)".into(),
         ));
     }
-    let config = match &args.restart {
+    let (config, warnings) = match &args.restart {
         Some(dir) => {
             let file = dir.join(pendulum_fem::commands::run::checkpoint::CHECKPOINT_TOML);
             if !file.is_file() {
@@ -469,9 +492,13 @@ fn run(args: RunArgs) -> Result<bool, Error> {
                     pendulum_fem::commands::run::checkpoint::CHECKPOINT_TOML
                 )));
             }
-            Config::load(Some(&file), &args.cfg.set)?
+            // the run wrote checkpoint.toml with every key: only the overrides are the user's
+            let config = Config::load(Some(&file), &args.cfg.set)?;
+            let given = config::GivenKeys::of_overrides(&args.cfg.set);
+            let warnings = warn(config.ineffective_keys(&given, config::Use::Run));
+            (config, warnings)
         }
-        None => load(&args.cfg)?,
+        None => load_warning(&args.cfg)?,
     };
     let stop = Arc::new(AtomicBool::new(false));
     install_stop_handler(
@@ -489,6 +516,7 @@ fn run(args: RunArgs) -> Result<bool, Error> {
         stop: Some(stop),
         checkpoint_every: args.checkpoint_every,
         restart: args.restart.is_some(),
+        warnings,
     };
     let summary = pendulum_fem::commands::run::run(&opts)?;
     if summary.end == RunEnd::Interrupted {

@@ -35,6 +35,104 @@ fn unknown_keys_are_rejected_with_their_name_line_and_the_nearest_allowed_key() 
 }
 
 #[test]
+fn a_file_with_two_mistakes_reports_both_the_earlier_line_first_and_exits_non_zero() {
+    let dir = common::scratch("two-mistakes");
+    let cfg = dir.join("two.toml");
+    // [time] sorts after [mesh]: the report follows the lines, not the sections' order
+    std::fs::write(&cfg, "[time]\nedn = 2.0\n\n[mesh]\nmax_size = -0.1\n").unwrap();
+    let o = common::bin()
+        .args(["run", "--config"])
+        .arg(&cfg)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let msg = stderr(&o);
+    let first = msg.find("unknown key \"edn\" in [time] at line 2; did you mean \"end\"?");
+    let second = msg.find("mesh.max_size = -0.1: allowed a finite value > 0 m (at line 5)");
+    assert!(
+        msg.contains("2 mistakes") && first.is_some() && second.is_some() && first < second,
+        "{msg}"
+    );
+    assert!(!dir.join("out").join("results.csv").exists());
+}
+
+/// `pendulum-fem run` of 5 steps without pictures or ParaView frames into `out`, with `sets`.
+fn short_run(out: &std::path::Path, sets: &[&str]) -> Output {
+    let mut cmd = common::bin();
+    cmd.args(["run", "--quiet", "--out"])
+        .arg(out)
+        .args(common::NO_PICTURES)
+        .args(["--set", "output.paraview=false", "--set", "time.end=0.05"]);
+    for s in sets {
+        cmd.args(["--set", s]);
+    }
+    let o = cmd.output().unwrap();
+    assert!(o.status.success(), "{sets:?}: {}", stderr(&o));
+    o
+}
+
+#[test]
+fn a_torque_amplitude_without_a_profile_warns_naming_the_profile_key_and_changes_no_result() {
+    let dir = common::scratch("ineffective-torque");
+    let plain = short_run(&dir.join("plain"), &[]);
+    let set = short_run(&dir.join("set"), &["torque.amplitude=2"]);
+    let warning = "warning: torque.amplitude = 2 has no effect: no torque profile is set (set torque.profile to \
+                   one of \"constant\", \"step\", \"ramp\", \"sine\" or \"table\")";
+    assert!(stderr(&set).contains(warning), "{}", stderr(&set));
+    assert!(!stderr(&plain).contains("warning:"), "{}", stderr(&plain));
+    let results = |name: &str| std::fs::read(dir.join(name).join("results.csv")).unwrap();
+    assert_eq!(
+        results("plain"),
+        results("set"),
+        "the results are those of the defaults"
+    );
+    // the run keeps it with its warnings: in status.json and in the summary it prints
+    assert_eq!(status_of(&dir.join("set")).warnings, [warning]);
+    assert!(String::from_utf8_lossy(&set.stdout).contains(warning));
+    assert!(status_of(&dir.join("plain")).warnings.is_empty());
+}
+
+#[test]
+fn contact_keys_without_a_wall_and_modes_on_the_full_body_warn_naming_what_makes_them_act() {
+    let dir = common::scratch("ineffective-wall");
+    let o = short_run(&dir.join("out"), &["contact.stiffness=1e10", "model.modes=4"]);
+    let msg = stderr(&o);
+    for warning in [
+        "warning: contact.stiffness = 1e10 has no effect: there is no wall (set wall.kind to \"rigid\" or \
+         \"deformable\")",
+        "warning: model.modes = 4 has no effect: the full body (model.kind = \"full\") has no modes (set \
+         model.kind to \"reduced\")",
+    ] {
+        assert!(msg.contains(warning), "{warning:?} missing in:\n{msg}");
+    }
+    // where they act, nothing is said
+    let o = short_run(&dir.join("wall"), &["contact.stiffness=1e10", "wall.kind=\"rigid\""]);
+    assert!(!stderr(&o).contains("warning:"), "{}", stderr(&o));
+}
+
+#[test]
+fn the_default_configuration_and_the_file_init_writes_warn_of_nothing() {
+    let dir = common::scratch("no-warning");
+    let file = dir.join("p.toml");
+    assert!(common::bin().arg("init").arg(&file).output().unwrap().status.success());
+    let o = short_run(&dir.join("default"), &[]);
+    assert!(!stderr(&o).contains("warning:"), "{}", stderr(&o));
+    let o = common::bin()
+        .args(["run", "--quiet", "--config"])
+        .arg(&file)
+        .arg("--out")
+        .arg(dir.join("init"))
+        // every output on, as the file says: with them off, [output] keys would act on nothing
+        .args(["--set", "time.end=0.05"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("warning:"), "{}", stderr(&o));
+}
+
+#[test]
 fn out_of_range_values_name_the_key_and_the_allowed_range() {
     for (set, key) in [
         ("mesh.max_size=-0.1", "mesh.max_size"),

@@ -126,6 +126,34 @@ impl Sweep {
         Ok(cfg)
     }
 
+    /// The keys of the base, `--set` and the cases that have no effect in a case's configuration
+    /// ([`Config::ineffective_keys`]), each once: as the first case that has it says it, with the
+    /// share of the cases that have it when not all do.
+    pub fn ineffective_keys(&self) -> Vec<String> {
+        let mut found: Vec<(String, String, usize)> = Vec::new();
+        for k in 0..self.len() {
+            let mut overrides = self.set.clone();
+            overrides.extend(self.plan.overrides(k));
+            // a case whose configuration is wrong fails with its own message
+            let Ok(loaded) = Config::load_given(self.base.as_deref(), &overrides) else {
+                continue;
+            };
+            for w in loaded.config.ineffective_keys(&loaded.given, crate::config::Use::Run) {
+                match found.iter_mut().find(|(key, _, _)| key == w.key) {
+                    Some((_, _, cases)) => *cases += 1,
+                    None => found.push((w.key.to_string(), w.to_string(), 1)),
+                }
+            }
+        }
+        found
+            .into_iter()
+            .map(|(_, text, cases)| match cases == self.len() {
+                true => text,
+                false => format!("{text} (in {cases} of {} cases)", self.len()),
+            })
+            .collect()
+    }
+
     /// The text of [`CASES_CSV`].
     pub fn cases_csv(&self) -> String {
         self.plan.to_cases_csv()

@@ -301,3 +301,39 @@ fn a_mesh_max_size_that_bounds_no_element_logs_the_mesh_warning_and_the_model_bu
         log.borrow()
     );
 }
+
+/// The warnings an instance logged.
+fn warnings(log: &Log) -> Vec<String> {
+    log.borrow()
+        .iter()
+        .filter(|(status, _)| *status == Status::Warning)
+        .map(|(_, m)| m.clone())
+        .collect()
+}
+
+#[test]
+fn a_parameter_set_where_it_has_no_effect_logs_a_warning_naming_it_and_what_makes_it_act() {
+    // no wall: the contact stiffness acts on nothing
+    let (mut inst, log) = started(&[("contact_stiffness", 1e10)]);
+    let w = warnings(&log);
+    assert!(
+        w.len() == 1
+            && w[0].starts_with("parameter contact_stiffness: contact.stiffness = ")
+            && w[0].contains("has no effect: there is no wall (set wall.kind to \"rigid\" or \"deformable\")")
+            && w[0].contains("wall.kind is the parameter wall_kind"),
+        "{w:?}"
+    );
+    assert_eq!(inst.do_step(0.0, 0.01), Status::Ok, "{:?}", log.borrow());
+    // the full body has no modes
+    let (_, log) = started(&[("modes", 4.0)]);
+    let w = warnings(&log);
+    assert!(
+        w.len() == 1 && w[0].contains("model.modes = 4 has no effect") && w[0].contains("model_kind"),
+        "{w:?}"
+    );
+    // where they act, they warn of nothing
+    let (_, log) = started(&[("contact_stiffness", 1e10), ("wall_kind", 1.0)]);
+    assert!(warnings(&log).is_empty(), "{:?}", log.borrow());
+    let (_, log) = started(&[("modes", 4.0), ("model_kind", 1.0)]);
+    assert!(warnings(&log).is_empty(), "{:?}", log.borrow());
+}

@@ -1,11 +1,13 @@
 //! Configuration from Python: a dict of configuration keys (nested or dotted) and keyword values
 //! as TOML values and the CLI's `key=value` overrides, loaded as the CLI loads them (an unknown key
-//! named), and a configuration written back as portable TOML.
+//! named; the keys given kept for the warnings about keys without effect), and a configuration
+//! written back as portable TOML.
 
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
+use pendulum_fem_core::config::Loaded;
 use pendulum_fem_core::{Config, Error};
 
 use crate::errors::{os_error, py_err, unknown_key};
@@ -118,14 +120,15 @@ fn file_keys(prefix: &str, table: &toml::Table, out: &mut Vec<String>) {
     }
 }
 
-/// Loads a configuration as the CLI does (`--config FILE --set …`). A file that cannot be opened
-/// is the `OSError` of its cause (`FileNotFoundError`); an unknown key, in the file or the
-/// overrides, an `UnknownKeyError` naming it and the keys allowed where it fails.
-pub(crate) fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResult<Config> {
+/// Loads a configuration as the CLI does (`--config FILE --set …`), with the keys the file and the
+/// overrides gave. A file that cannot be opened is the `OSError` of its cause
+/// (`FileNotFoundError`); an unknown key, in the file or the overrides, an `UnknownKeyError`
+/// naming it and the keys allowed where it fails.
+pub(crate) fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]) -> PyResult<Loaded> {
     if let Some(p) = &path {
         std::fs::File::open(p).map_err(|e| os_error(p, &e))?;
     }
-    Config::load(path.as_deref(), overrides).map_err(|e| {
+    Config::load_given(path.as_deref(), overrides).map_err(|e| {
         let Error::Config(message) = &e else {
             return py_err(e);
         };

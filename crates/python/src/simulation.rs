@@ -7,6 +7,7 @@ use pyo3::exceptions::{PyRuntimeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList, PyString};
 
+use pendulum_fem_core::config::Use;
 use pendulum_fem_core::{Config, Simulation, Snapshot};
 use pendulum_fem_run::driver::PlanSteps;
 use pendulum_fem_run::rows::{csv_values, EVENTS_HEADER};
@@ -41,7 +42,9 @@ type Reduced<'py> = (Bound<'py, PyAny>, (String, Bound<'py, PyBytes>));
 /// `Simulation(config=None, **overrides)`: `config` is a TOML file (path), a dict of the CLI's
 /// configuration keys (nested sections or dotted keys) or `None` for the defaults; keyword
 /// overrides use the same keys (`Simulation(time={"dt": 0.005})`, `Simulation(**{"time.dt":
-/// 0.005})`) and win over `config`. A value of `None` leaves a key as it is.
+/// 0.005})`) and win over `config`. A value of `None` leaves a key as it is. A key given that has
+/// no effect here (`torque.amplitude` without a torque profile, `[output]`, which a Simulation
+/// does not write) raises a `UserWarning` naming it and what would make it act.
 #[pyclass(module = "pendulum_fem", name = "Simulation")]
 pub struct PySimulation {
     sim: Simulation,
@@ -111,8 +114,12 @@ impl PySimulation {
         if let Some(kw) = overrides {
             flatten(kw, &mut sets)?;
         }
-        let cfg = load_config(path, &sets)?;
-        Self::from_config(py, cfg)
+        let loaded = load_config(path, &sets)?;
+        // a stepped simulation: the keys a Simulation does not use, as the CLI words them
+        for w in loaded.ineffective(Use::Stepper) {
+            user_warning(py, w.to_string())?;
+        }
+        Self::from_config(py, loaded.config)
     }
 
     /// Rebuilds a pickled simulation: its configuration (TOML) and its snapshot.

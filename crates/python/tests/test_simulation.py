@@ -189,6 +189,25 @@ def test_a_missing_file_raises_file_not_found_error_naming_it(tmp_path):
     assert raised.value.filename == str(tmp_path / "nope.msh")
 
 
+def test_a_key_without_effect_warns_naming_it_and_the_key_that_makes_it_act():
+    """The CLI's rule and words: a torque amplitude without a profile, and the ``[output]`` keys
+    (a Simulation writes no files), each one ``UserWarning``; keys that act say nothing."""
+    with pytest.warns(UserWarning) as caught:
+        sim = Simulation(torque={"amplitude": 2}, output={"plots": False})
+    said = [str(w.message) for w in caught if "has no effect" in str(w.message)]
+    assert said == [
+        'torque.amplitude = 2 has no effect: no torque profile is set (set torque.profile to one of '
+        '"constant", "step", "ramp", "sine" or "table")',
+        "output.plots = false has no effect: a simulation stepped by its caller writes no files (the [output] "
+        "keys act in pendulum-fem run and its sweeps)",
+    ], said
+    assert sim.config["torque"]["amplitude"] == 2.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        Simulation()
+        Simulation(torque={"profile": "constant", "amplitude": 0.2}, **{"wall.x": -0.07})
+
+
 def test_a_toml_file_a_dict_and_keywords_give_the_same_configuration(tmp_path):
     path = tmp_path / "p.toml"
     path.write_text('[material]\nyoungs_modulus = 1e9\nplane = "strain"\n[initial]\nangle_deg = 30\n')

@@ -52,6 +52,10 @@ pub struct RunOptions {
     pub checkpoint_every: Option<usize>,
     /// Continue the run in `out` from its [`CHECKPOINT_SNAP`] (see [`run`]).
     pub restart: bool,
+    /// Warnings about the configuration, already shown (the keys without effect,
+    /// [`Config::ineffective_keys`]): the run keeps them with its own in its summary and
+    /// `status.json`.
+    pub warnings: Vec<String>,
 }
 
 /// The main job: prepares the output folder (before computing anything), then runs with every
@@ -157,7 +161,9 @@ fn run_set_up(
 ) -> Result<RunSummary, Error> {
     let status_path = out_dir.join(crate::status::STATUS_JSON);
     let end_time = opts.config.time.end;
-    crate::status::RunStatus::running(end_time).write(&status_path)?;
+    crate::status::RunStatus::running(end_time)
+        .with_warnings(&opts.warnings)
+        .write(&status_path)?;
     let mut reached = None;
     let result = set_up
         .map_or_else(|| SetUp::of(opts, &out_dir), Ok)
@@ -167,7 +173,7 @@ fn run_set_up(
             crate::status::RunStatus::interrupted(end_time, reached).with_warnings(&s.warnings)
         }
         Ok(s) => crate::status::RunStatus::ok(end_time, reached).with_warnings(&s.warnings),
-        Err(e) => crate::status::RunStatus::failed(end_time, reached, e),
+        Err(e) => crate::status::RunStatus::failed(end_time, reached, e).with_warnings(&opts.warnings),
     };
     // A run that failed reports its own error, not a failure to write the status.
     let written = status.write(&status_path);
@@ -249,6 +255,7 @@ fn run_steps(
         mesh_nodes: sim.model.mesh.num_nodes(),
         unknowns: sim.model.unknowns(),
         theta_range: (f64::INFINITY, f64::NEG_INFINITY),
+        warnings: opts.warnings.clone(),
         ..Default::default()
     };
     let start_of = RunStart {

@@ -4,9 +4,8 @@
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
-use super::ranges::{non_negative, positive, range, within};
+use super::ranges::{non_negative, positive, range, within, Mistakes};
 use super::Config;
-use crate::error::Error;
 
 /// Pendulum geometry (the tutorial's `r_rod`, `r_head`, `r_hole`, `l_center`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -38,16 +37,21 @@ impl Default for Geometry {
 
 impl Geometry {
     /// The `[geometry]` rules: positive sizes, the hole inside the head, the rod narrower than
-    /// the head and with a free length.
-    pub(super) fn validate(&self) -> Result<(), Error> {
+    /// the head and with a free length (the relations once the sizes are valid).
+    pub(super) fn validate(&self, m: &mut Mistakes) {
         let g = self;
-        positive("geometry.rod_half_width", g.rod_half_width, "m")?;
-        positive("geometry.head_radius", g.head_radius, "m")?;
-        non_negative("geometry.hole_radius", g.hole_radius, "m")?;
-        positive("geometry.head_center_distance", g.head_center_distance, "m")?;
-        positive("geometry.thickness", g.thickness, "m")?;
+        let sizes = [
+            m.check(positive("geometry.rod_half_width", g.rod_half_width, "m")),
+            m.check(positive("geometry.head_radius", g.head_radius, "m")),
+            m.check(non_negative("geometry.hole_radius", g.hole_radius, "m")),
+            m.check(positive("geometry.head_center_distance", g.head_center_distance, "m")),
+        ];
+        m.check(positive("geometry.thickness", g.thickness, "m"));
+        if sizes.contains(&false) {
+            return;
+        }
         if g.hole_radius >= g.head_radius {
-            return Err(range(
+            m.keep(range(
                 "geometry.hole_radius",
                 g.hole_radius,
                 &format!(
@@ -57,7 +61,7 @@ impl Geometry {
             ));
         }
         if g.rod_half_width >= g.head_radius {
-            return Err(range(
+            m.keep(range(
                 "geometry.rod_half_width",
                 g.rod_half_width,
                 &format!(
@@ -65,6 +69,7 @@ impl Geometry {
                     g.head_radius
                 ),
             ));
+            return;
         }
         // The rod [−r, r] × [0, l] must reach into the head disc and must not end inside the hole:
         // its end meets the head circle at distance l − sqrt(R² − r²) from the pivot, which must be > 0,
@@ -72,7 +77,7 @@ impl Geometry {
         // outside the hole: sqrt(R² − r²) > sqrt(max(h² − r², 0)) holds whenever R > h.
         let reach = (g.head_radius * g.head_radius - g.rod_half_width * g.rod_half_width).sqrt();
         if g.head_center_distance <= reach {
-            return Err(range(
+            m.keep(range(
                 "geometry.head_center_distance",
                 g.head_center_distance,
                 &format!(
@@ -81,7 +86,6 @@ impl Geometry {
                 ),
             ));
         }
-        Ok(())
     }
 }
 
@@ -174,29 +178,30 @@ impl MeshConfig {
         }
     }
 
-    /// The `[mesh]` rules (the smallest size relative to the geometry `g`).
-    pub(super) fn validate(&self, g: &Geometry) -> Result<(), Error> {
-        let m = self;
-        positive("mesh.max_size", m.max_size, "m")?;
-        if !(m.order == 1 || m.order == 2) {
-            return Err(Error::Config(format!(
-                "mesh.order = {}: allowed values are 1 and 2",
-                m.order
-            )));
+    /// The `[mesh]` rules (the smallest size relative to the geometry `g`, when it is valid).
+    pub(super) fn validate(&self, g: Option<&Geometry>, m: &mut Mistakes) {
+        let c = self;
+        let mut valid = m.check(positive("mesh.max_size", c.max_size, "m"));
+        if !(c.order == 1 || c.order == 2) {
+            m.push(
+                "mesh.order",
+                format!("mesh.order = {}: allowed values are 1 and 2", c.order),
+            );
         }
         for (key, v) in [
-            ("mesh.rod_size", m.rod_size),
-            ("mesh.head_size", m.head_size),
-            ("mesh.hinge_edge_size", m.hinge_edge_size),
-            ("mesh.hinge_corner_size", m.hinge_corner_size),
-            ("mesh.circle_edge_size", m.circle_edge_size),
+            ("mesh.rod_size", c.rod_size),
+            ("mesh.head_size", c.head_size),
+            ("mesh.hinge_edge_size", c.hinge_edge_size),
+            ("mesh.hinge_corner_size", c.hinge_corner_size),
+            ("mesh.circle_edge_size", c.circle_edge_size),
         ] {
             if let Some(v) = v {
-                positive(key, v, "m")?;
+                valid &= m.check(positive(key, v, "m"));
             }
         }
-        within("mesh.grading", m.grading, 0.05, 1.0, "")?;
-        within("mesh.refine", m.refine, 0.1, 100.0, "(divides every mesh size)")?;
+        valid &= m.check(within("mesh.grading", c.grading, 0.05, 1.0, ""));
+        valid &= m.check(within("mesh.refine", c.refine, 0.1, 100.0, "(divides every mesh size)"));
+        let Some(g) = g.filter(|_| valid) else { return };
         let sizes = self.sizes(g);
         let smallest = [
             sizes.max_size,
@@ -210,14 +215,16 @@ impl MeshConfig {
         .fold(f64::INFINITY, f64::min);
         let scale = g.head_center_distance + g.head_radius;
         if smallest < scale * 1e-5 {
-            return Err(Error::Config(format!(
-                "mesh sizes: the smallest local size {smallest:e} m is below 1e-5 × the pendulum length ({:e} m); \
-                 allowed: sizes >= {:e} m",
-                scale,
-                scale * 1e-5
-            )));
+            m.push(
+                "mesh",
+                format!(
+                    "mesh sizes: the smallest local size {smallest:e} m is below 1e-5 × the pendulum length ({:e} m); \
+                     allowed: sizes >= {:e} m",
+                    scale,
+                    scale * 1e-5
+                ),
+            );
         }
-        Ok(())
     }
 }
 

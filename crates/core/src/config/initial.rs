@@ -3,8 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::ranges::{finite, within};
-use crate::error::Error;
+use super::ranges::{finite, within, Mistakes};
 
 /// How the initial acceleration is chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -62,16 +61,15 @@ impl Initial {
     }
 
     /// The `[initial]` rules.
-    pub(super) fn validate(&self) -> Result<(), Error> {
-        within("initial.angle_deg", self.angle_deg, -360.0, 360.0, "deg")?;
-        finite("initial.angular_velocity", self.angular_velocity)?;
+    pub(super) fn validate(&self, m: &mut Mistakes) {
+        m.check(within("initial.angle_deg", self.angle_deg, -360.0, 360.0, "deg"));
+        m.check(finite("initial.angular_velocity", self.angular_velocity));
         if self.elastic == Some(InitialElastic::Equilibrium) && self.acceleration == InitialAcceleration::Zero {
-            return Err(Error::Config(
+            m.push(
+                "initial.elastic",
                 "initial.elastic = \"equilibrium\" needs initial.acceleration = \"rigid\" (a tilted body with zero \
-                 acceleration has no equilibrium); allowed with \"zero\": \"undeformed\""
-                    .into(),
-            ));
+                 acceleration has no equilibrium); allowed with \"zero\": \"undeformed\"",
+            );
         }
-        Ok(())
     }
 }

@@ -3,8 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::ranges::{non_negative, positive, range};
-use crate::error::Error;
+use super::ranges::{non_negative, positive, range, Mistakes};
 
 /// Constitutive model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -67,24 +66,23 @@ impl Material {
     }
 
     /// The `[material]` rules.
-    pub(super) fn validate(&self) -> Result<(), Error> {
+    pub(super) fn validate(&self, m: &mut Mistakes) {
         let mat = self;
-        positive("material.youngs_modulus", mat.youngs_modulus, "Pa")?;
+        m.check(positive("material.youngs_modulus", mat.youngs_modulus, "Pa"));
         if !(mat.poisson_ratio > -1.0 && mat.poisson_ratio < 0.5) {
-            return Err(range(
+            m.keep(range(
                 "material.poisson_ratio",
                 mat.poisson_ratio,
                 "-1 < poisson_ratio < 0.5",
             ));
-        }
-        if mat.model == MaterialModel::NeoHookean && mat.poisson_ratio <= 0.0 {
-            return Err(range(
+        } else if mat.model == MaterialModel::NeoHookean && mat.poisson_ratio <= 0.0 {
+            m.keep(range(
                 "material.poisson_ratio",
                 mat.poisson_ratio,
                 "0 < poisson_ratio < 0.5 for the neo-hookean model (its energy divides by λ)",
             ));
         }
-        positive("material.density", mat.density, "kg/m^3")
+        m.check(positive("material.density", mat.density, "kg/m^3"));
     }
 }
 
@@ -104,7 +102,7 @@ impl Default for Gravity {
 
 impl Gravity {
     /// The `[gravity]` rules.
-    pub(super) fn validate(&self) -> Result<(), Error> {
-        non_negative("gravity.g", self.g, "m/s^2")
+    pub(super) fn validate(&self, m: &mut Mistakes) {
+        m.check(non_negative("gravity.g", self.g, "m/s^2"));
     }
 }

@@ -3,8 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::ranges::Mistakes;
 use super::{ContactMethod, Scheme, TorqueProfile};
-use crate::error::Error;
 
 /// Which body the pendulum is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -46,22 +46,25 @@ impl Default for ModelConfig {
 
 impl ModelConfig {
     /// The `[model]` rules, and what the reduced body does not model.
-    pub(super) fn validate(&self, config: &super::Config) -> Result<(), Error> {
+    pub(super) fn validate(&self, config: &super::Config, m: &mut Mistakes) {
         if !(1..=MAX_MODES).contains(&self.modes) {
-            return Err(Error::Config(format!(
-                "model.modes = {}: allowed 1 to {MAX_MODES} (the fixed-frame normal modes; the modal solver's \
-                 accuracy check fails beyond about 55)",
-                self.modes
-            )));
+            m.push(
+                "model.modes",
+                format!(
+                    "model.modes = {}: allowed 1 to {MAX_MODES} (the fixed-frame normal modes; the modal solver's \
+                     accuracy check fails beyond about 55)",
+                    self.modes
+                ),
+            );
         }
         if self.contact_modes > 64 {
-            return Err(Error::Config(format!(
-                "model.contact_modes = {}: allowed 0 to 64",
-                self.contact_modes
-            )));
+            m.push(
+                "model.contact_modes",
+                format!("model.contact_modes = {}: allowed 0 to 64", self.contact_modes),
+            );
         }
         if self.kind == ModelKind::Full {
-            return Ok(());
+            return;
         }
         let unsupported = if config.time.scheme != Scheme::EnergyMomentum {
             Some("time.scheme other than \"energy-momentum\"; the reduced body steps with its own discrete gradient")
@@ -72,9 +75,8 @@ impl ModelConfig {
         } else {
             None
         };
-        match unsupported {
-            Some(what) => Err(Error::Config(format!("model.kind = \"reduced\" does not model {what}"))),
-            None => Ok(()),
+        if let Some(what) = unsupported {
+            m.push("model.kind", format!("model.kind = \"reduced\" does not model {what}"));
         }
     }
 }

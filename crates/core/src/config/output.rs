@@ -3,8 +3,7 @@
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
-use super::ranges::{non_negative, range};
-use crate::error::Error;
+use super::ranges::{non_negative, range, Mistakes};
 
 /// What a run writes.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -46,24 +45,25 @@ impl Output {
     }
 
     /// The `[output]` rules.
-    pub(super) fn validate(&self) -> Result<(), Error> {
+    pub(super) fn validate(&self, m: &mut Mistakes) {
         let o = self;
         if o.every == 0 {
-            return Err(Error::Config("output.every = 0: allowed range 1 and up".into()));
+            m.push("output.every", "output.every = 0: allowed range 1 and up");
         }
         if o.paraview_every == Some(0) {
-            return Err(Error::Config(
-                "output.paraview_every = 0: allowed range 1 and up (output.paraview = false writes no frames)".into(),
-            ));
+            m.push(
+                "output.paraview_every",
+                "output.paraview_every = 0: allowed range 1 and up (output.paraview = false writes no frames)",
+            );
         }
-        non_negative(
+        m.check(non_negative(
             "output.energy_watchdog",
             o.energy_watchdog,
             "(a fraction of the energy scale; 0: off)",
-        )?;
+        ));
         if let Some(mag) = o.magnification {
             if !(mag >= 0.0 && mag.is_finite()) {
-                return Err(range(
+                m.keep(range(
                     "output.magnification",
                     mag,
                     "magnification >= 0 (omit the key for automatic)",
@@ -71,12 +71,11 @@ impl Output {
             }
         }
         if o.max_frames < 2 {
-            return Err(Error::Config(format!(
-                "output.max_frames = {}: allowed range 2 and up",
-                o.max_frames
-            )));
+            m.push(
+                "output.max_frames",
+                format!("output.max_frames = {}: allowed range 2 and up", o.max_frames),
+            );
         }
-        Ok(())
     }
 }
 

@@ -3,8 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::ranges::{non_negative, positive, range, within};
-use crate::error::Error;
+use super::ranges::{non_negative, positive, range, within, Mistakes};
 
 /// Time integration scheme.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -119,39 +118,45 @@ impl Time {
     }
 
     /// The `[time]` rules.
-    pub(super) fn validate(&self) -> Result<(), Error> {
-        positive("time.dt", self.dt, "s")?;
-        non_negative("time.end", self.end, "s")?;
-        within("time.hht_alpha", self.hht_alpha, -1.0 / 3.0, 0.0, "")?;
+    pub(super) fn validate(&self, m: &mut Mistakes) {
+        let dt = m.check(positive("time.dt", self.dt, "s"));
+        let end = m.check(non_negative("time.end", self.end, "s"));
+        m.check(within("time.hht_alpha", self.hht_alpha, -1.0 / 3.0, 0.0, ""));
         if !(self.dissipation >= 0.0 && self.dissipation < 1.0) {
-            return Err(range(
+            m.keep(range(
                 "time.dissipation",
                 self.dissipation,
                 "0 <= dissipation < 1 (0: exact energy conservation)",
             ));
+        } else if self.dissipation != 0.0 && self.scheme != Scheme::EnergyMomentum {
+            m.push(
+                "time.dissipation",
+                format!(
+                    "time.dissipation = {}: it belongs to time.scheme = \"energy-momentum\" (the Newmark schemes \
+                     have time.hht_alpha with time.scheme = \"hht\" instead)",
+                    self.dissipation
+                ),
+            );
         }
-        if self.dissipation != 0.0 && self.scheme != Scheme::EnergyMomentum {
-            return Err(Error::Config(format!(
-                "time.dissipation = {}: it belongs to time.scheme = \"energy-momentum\" (the Newmark schemes \
-                 have time.hht_alpha with time.scheme = \"hht\" instead)",
-                self.dissipation
-            )));
+        m.check(within("time.max_rotation_deg", self.max_rotation_deg, 0.1, 90.0, "deg"));
+        if !(dt && end) {
+            return;
         }
-        within("time.max_rotation_deg", self.max_rotation_deg, 0.1, 90.0, "deg")?;
         if self.end > 0.0 && self.dt > self.end {
-            return Err(range(
+            m.keep(range(
                 "time.dt",
                 self.dt,
                 &format!("0 < dt <= time.end = {} s", self.end),
             ));
+        } else if self.steps() > 10_000_000 {
+            m.push(
+                "time.end",
+                format!(
+                    "time.end / time.dt = {:.0} steps: at most 10000000 steps are allowed",
+                    self.end / self.dt
+                ),
+            );
         }
-        if self.steps() > 10_000_000 {
-            return Err(Error::Config(format!(
-                "time.end / time.dt = {:.0} steps: at most 10000000 steps are allowed",
-                self.end / self.dt
-            )));
-        }
-        Ok(())
     }
 }
 
@@ -273,30 +278,29 @@ impl Default for Solver {
 
 impl Solver {
     /// The `[solver]` rules.
-    pub(super) fn validate(&self) -> Result<(), Error> {
+    pub(super) fn validate(&self, m: &mut Mistakes) {
         let s = self;
         if !(s.tolerance > 0.0 && s.tolerance.is_finite()) {
-            return Err(range("solver.tolerance", s.tolerance, "tolerance > 0 (J)"));
+            m.keep(range("solver.tolerance", s.tolerance, "tolerance > 0 (J)"));
         }
         if !(s.energy_tolerance > 0.0 && s.energy_tolerance <= 1e-3) {
-            return Err(range(
+            m.keep(range(
                 "solver.energy_tolerance",
                 s.energy_tolerance,
                 "0 < energy_tolerance <= 1e-3 (relative energy error per step)",
             ));
         }
         if !(1..=1000).contains(&s.max_iterations) {
-            return Err(Error::Config(format!(
-                "solver.max_iterations = {}: allowed range 1 to 1000",
-                s.max_iterations
-            )));
+            m.push(
+                "solver.max_iterations",
+                format!("solver.max_iterations = {}: allowed range 1 to 1000", s.max_iterations),
+            );
         }
         if let Cutbacks::Count(n) = s.max_cutbacks {
             if n > Cutbacks::MAX {
-                return Err(Error::Config(Cutbacks::refusal(n)));
+                m.push("solver.max_cutbacks", Cutbacks::refusal(n));
             }
         }
-        Ok(())
     }
 }
 

@@ -3,8 +3,7 @@
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
-use super::ranges::{finite, non_negative, range};
-use crate::error::Error;
+use super::ranges::{finite, non_negative, range, Mistakes};
 
 /// Time profile of the actuator torque.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -22,6 +21,20 @@ pub enum TorqueProfile {
     Sine,
     /// Linear interpolation in a CSV table `time_s,torque_Nm`.
     Table,
+}
+
+impl TorqueProfile {
+    /// The name in the configuration.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::None => "none",
+            Self::Constant => "constant",
+            Self::Step => "step",
+            Self::Ramp => "ramp",
+            Self::Sine => "sine",
+            Self::Table => "table",
+        }
+    }
 }
 
 /// Actuator torque at the pivot: the one description of the torque profile, which the torque
@@ -64,33 +77,33 @@ impl Default for Torque {
 
 impl Torque {
     /// The `[torque]` rules: the keys each profile needs.
-    pub(super) fn validate(&self) -> Result<(), Error> {
+    pub(super) fn validate(&self, m: &mut Mistakes) {
         let t = self;
-        finite("torque.amplitude", t.amplitude)?;
-        non_negative("torque.start", t.start, "s")?;
-        non_negative("torque.duration", t.duration, "s")?;
-        non_negative("torque.frequency", t.frequency, "Hz")?;
-        finite("torque.phase", t.phase)?;
-        if t.profile == TorqueProfile::Ramp && t.duration <= 0.0 {
-            return Err(range(
+        m.check(finite("torque.amplitude", t.amplitude));
+        m.check(non_negative("torque.start", t.start, "s"));
+        let duration = m.check(non_negative("torque.duration", t.duration, "s"));
+        let frequency = m.check(non_negative("torque.frequency", t.frequency, "Hz"));
+        m.check(finite("torque.phase", t.phase));
+        if duration && t.profile == TorqueProfile::Ramp && t.duration <= 0.0 {
+            m.keep(range(
                 "torque.duration",
                 t.duration,
                 "duration > 0 s for profile = \"ramp\"",
             ));
         }
-        if t.profile == TorqueProfile::Sine && t.frequency <= 0.0 {
-            return Err(range(
+        if frequency && t.profile == TorqueProfile::Sine && t.frequency <= 0.0 {
+            m.keep(range(
                 "torque.frequency",
                 t.frequency,
                 "frequency > 0 Hz for profile = \"sine\"",
             ));
         }
         if t.profile == TorqueProfile::Table && t.file.is_none() {
-            return Err(Error::Config(
-                "torque.file: required for profile = \"table\" (a CSV time_s,torque_Nm)".into(),
-            ));
+            m.push(
+                "torque.file",
+                "torque.file: required for profile = \"table\" (a CSV time_s,torque_Nm)",
+            );
         }
-        Ok(())
     }
 }
 

@@ -1,17 +1,18 @@
 //! The message for an unknown key: its section, where it was written (the line of the file or
 //! the `--set` override) and the allowed key nearest to it by edit distance.
 
+#[cfg(doc)]
 use super::Config;
 #[cfg(doc)]
 use crate::error::Error;
 
 /// For serde's "unknown field" error (`message`: ``unknown field `edn`, expected one of `dt`,
 /// `end`, …`` and, in a section, ``in `time` ``), a message that names the key, its section, where
-/// it was written (the line in the configuration file `text`, or the `--set` override) and the
-/// allowed key nearest to it:
+/// it was written (`place`: ` at line 3`, ` in --set time.edn=2` or nothing) and the allowed key
+/// nearest to it:
 /// `unknown key "edn" in [time] at line 3; did you mean "end"? (allowed: dt, end, …)`.
 /// `None` for any other error.
-pub(super) fn unknown_key_message(message: &str, text: Option<&str>, overrides: &[String]) -> Option<String> {
+pub(super) fn unknown_key_message(message: &str, place: &str) -> Option<String> {
     let rest = message.strip_prefix("unknown field `")?;
     let (key, rest) = rest.split_once('`')?;
     let (expected, section) = match rest.rsplit_once("\nin `") {
@@ -20,17 +21,6 @@ pub(super) fn unknown_key_message(message: &str, text: Option<&str>, overrides: 
     };
     // the allowed keys: every `quoted` word after "expected" (`a`; `a` or `b`; one of `a`, `b`, …)
     let allowed: Vec<&str> = expected.split('`').skip(1).step_by(2).collect();
-    let full = section.map_or(key.to_string(), |s| format!("{s}.{key}"));
-    let place = if let Some(o) = overrides
-        .iter()
-        .find(|o| o.split('=').next().map(str::trim) == Some(&full))
-    {
-        format!(" in --set {o}")
-    } else if let Some(line) = text.and_then(|t| line_of_unknown_key(t, key)) {
-        format!(" at line {line}")
-    } else {
-        String::new()
-    };
     let within = section.map_or(" at the top level".to_string(), |s| format!(" in [{s}]"));
     let nearest = allowed
         .iter()
@@ -48,16 +38,6 @@ pub(super) fn unknown_key_message(message: &str, text: Option<&str>, overrides: 
 /// [`Config::load`] words it; for callers that treat a misspelled key apart from a bad value.
 pub fn reports_an_unknown_key(message: &str) -> bool {
     message.contains("unknown key \"")
-}
-
-/// The line (1-based) of the unknown `key` in the configuration file `text`: toml's own reading of
-/// the file as a [`Config`] points at it (when that is its first error).
-fn line_of_unknown_key(text: &str, key: &str) -> Option<usize> {
-    let e = toml::from_str::<Config>(text).err()?;
-    let span = e.span()?;
-    e.message()
-        .starts_with(&format!("unknown field `{key}`"))
-        .then(|| text[..span.start].matches('\n').count() + 1)
 }
 
 /// The optimal-string-alignment distance of `a` and `b`: insertions, deletions, substitutions and
@@ -86,6 +66,7 @@ fn edit_distance(a: &str, b: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::Config;
 
     #[test]
     fn a_misspelled_key_names_its_section_line_and_nearest_allowed_key() {

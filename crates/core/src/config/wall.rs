@@ -3,9 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::ranges::{finite, positive, range};
+use super::ranges::{finite, positive, range, Mistakes};
 use super::Scheme;
-use crate::error::Error;
 
 /// What the wall is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -75,35 +74,32 @@ impl Wall {
 
     /// The `[wall]` rules (the wall's overlap with the pendulum at its release angle is checked
     /// with the mesh, by the model).
-    pub(super) fn validate(&self) -> Result<(), Error> {
+    pub(super) fn validate(&self, m: &mut Mistakes) {
         let w = self;
-        finite("wall.x", w.x)?;
-        finite("wall.center_y", w.center_y)?;
-        if w.kind == WallKind::Deformable {
-            positive("wall.width", w.width, "m")?;
-            positive("wall.height", w.height, "m")?;
-            positive("wall.youngs_modulus", w.youngs_modulus, "Pa")?;
-            if !(w.poisson_ratio > 0.0 && w.poisson_ratio < 0.5) {
-                return Err(range("wall.poisson_ratio", w.poisson_ratio, "0 < poisson_ratio < 0.5"));
-            }
-            positive("wall.density", w.density, "kg/m^3")?;
-            positive("wall.thickness", w.thickness, "m")?;
-            positive("wall.mesh_size", w.mesh_size, "m")?;
-            positive("wall.face_size", w.face_size, "m")?;
-            for (key, size) in [("wall.mesh_size", w.mesh_size), ("wall.face_size", w.face_size)] {
-                if size > w.width.max(w.height) || size < 1e-5 * w.height {
-                    return Err(range(
-                        key,
-                        size,
-                        &format!(
-                            "1e-5 x wall.height <= size <= the block's size ({} m)",
-                            w.width.max(w.height)
-                        ),
-                    ));
-                }
+        m.check(finite("wall.x", w.x));
+        m.check(finite("wall.center_y", w.center_y));
+        if w.kind != WallKind::Deformable {
+            return;
+        }
+        let block = m.check(positive("wall.width", w.width, "m")) & m.check(positive("wall.height", w.height, "m"));
+        m.check(positive("wall.youngs_modulus", w.youngs_modulus, "Pa"));
+        if !(w.poisson_ratio > 0.0 && w.poisson_ratio < 0.5) {
+            m.keep(range("wall.poisson_ratio", w.poisson_ratio, "0 < poisson_ratio < 0.5"));
+        }
+        m.check(positive("wall.density", w.density, "kg/m^3"));
+        m.check(positive("wall.thickness", w.thickness, "m"));
+        for (key, size) in [("wall.mesh_size", w.mesh_size), ("wall.face_size", w.face_size)] {
+            if m.check(positive(key, size, "m")) && block && (size > w.width.max(w.height) || size < 1e-5 * w.height) {
+                m.keep(range(
+                    key,
+                    size,
+                    &format!(
+                        "1e-5 x wall.height <= size <= the block's size ({} m)",
+                        w.width.max(w.height)
+                    ),
+                ));
             }
         }
-        Ok(())
     }
 }
 
@@ -151,28 +147,30 @@ impl Default for Contact {
 impl Contact {
     /// The `[contact]` rules; the energy-consistent method with a wall needs the energy-momentum
     /// `scheme`.
-    pub(super) fn validate(&self, w: &Wall, scheme: Scheme) -> Result<(), Error> {
+    pub(super) fn validate(&self, w: &Wall, scheme: Scheme, m: &mut Mistakes) {
         let c = self;
-        positive("contact.stiffness", c.stiffness, "N/m^3")?;
+        m.check(positive("contact.stiffness", c.stiffness, "N/m^3"));
         if !(1..=64).contains(&c.points_per_edge) {
-            return Err(Error::Config(format!(
-                "contact.points_per_edge = {}: allowed range 1 to 64",
-                c.points_per_edge
-            )));
+            m.push(
+                "contact.points_per_edge",
+                format!("contact.points_per_edge = {}: allowed range 1 to 64", c.points_per_edge),
+            );
         }
         if !(4..=1000).contains(&c.substeps) {
-            return Err(Error::Config(format!(
-                "contact.substeps = {}: allowed range 4 to 1000",
-                c.substeps
-            )));
+            m.push(
+                "contact.substeps",
+                format!("contact.substeps = {}: allowed range 4 to 1000", c.substeps),
+            );
         }
         if w.kind != WallKind::None && c.method == ContactMethod::EnergyConsistent && scheme != Scheme::EnergyMomentum {
-            return Err(Error::Config(format!(
-                "contact.method = \"energy-consistent\" needs time.scheme = \"energy-momentum\" (this run has \"{}\"); \
-                 the Newmark schemes evaluate the contact force at the end of the step: set contact.method = \"penalty\"",
-                scheme.name()
-            )));
+            m.push(
+                "contact.method",
+                format!(
+                    "contact.method = \"energy-consistent\" needs time.scheme = \"energy-momentum\" (this run has \"{}\"); \
+                     the Newmark schemes evaluate the contact force at the end of the step: set contact.method = \"penalty\"",
+                    scheme.name()
+                ),
+            );
         }
-        Ok(())
     }
 }

@@ -1,7 +1,9 @@
 //! The parameters of an instance: values set by value reference, the configuration they stand for
-//! (configuration overrides by name, the torque input declared), their own checks, and the
-//! simulation built from them when first needed.
+//! (configuration overrides by name, the torque input declared), their own checks, the warnings
+//! for parameters set where they have no effect, and the simulation built from them when first
+//! needed.
 
+use pendulum_fem_core::config::{GivenKeys, Use};
 use pendulum_fem_core::simulation::Built;
 use pendulum_fem_core::{Config, Error, Simulation};
 
@@ -22,33 +24,50 @@ impl Instance {
     /// configuration key set by name, `initial.angle_deg` from `theta_start`, and the torque input
     /// declared (`[torque] profile = "constant", amplitude = 0`).
     pub fn config(&self) -> Result<Config, Error> {
-        let mut sets = Vec::new();
-        for (v, &value) in VARIABLES.iter().zip(&self.values) {
-            match v.role {
-                Role::Config(key) => sets.push(match v.kind {
-                    Kind::Real => format!("{key}={value:?}"),
-                    _ => format!("{key}={}", value as i64),
-                }),
-                Role::ThetaStart => sets.push(format!("initial.angle_deg={:?}", value.to_degrees())),
-                Role::MaxCutbacks => sets.push(match value as i64 {
-                    -1 => "solver.max_cutbacks=\"auto\"".to_string(),
-                    count => format!("solver.max_cutbacks={count}"),
-                }),
-                Role::WallKind => sets.push(match value as i64 {
-                    0 => "wall.kind=\"none\"".to_string(),
-                    1 => "wall.kind=\"rigid\"".to_string(),
-                    2 => "wall.kind=\"deformable\"".to_string(),
-                    other => format!("wall.kind={other}"),
-                }),
-                Role::ModelKind => sets.push(match value as i64 {
-                    0 => "model.kind=\"full\"".to_string(),
-                    1 => "model.kind=\"reduced\"".to_string(),
-                    other => format!("model.kind={other}"),
-                }),
-                _ => {}
-            }
-        }
+        let sets: Vec<String> = VARIABLES
+            .iter()
+            .zip(&self.values)
+            .filter_map(|(v, &value)| assignment(v.role, v.kind, value))
+            .collect();
         Config::load(None, &sets).map(|c| c.with_torque_input())
+    }
+
+    /// The warnings for the parameters set away from their start values that have no effect in
+    /// `config` (the configuration they stand for, [`Config::ineffective_keys`] of a stepped
+    /// simulation): each names the parameter, and the parameters that set the keys it names. A
+    /// parameter at its start value counts as not set: a master may set every start value.
+    fn ineffective(&self, config: &Config) -> Vec<String> {
+        let changed: Vec<String> = VARIABLES
+            .iter()
+            .zip(&self.values)
+            .filter(|(v, &value)| v.start.is_some_and(|s| s.to_bits() != value.to_bits()))
+            .filter_map(|(v, &value)| assignment(v.role, v.kind, value))
+            .collect();
+        let given = GivenKeys::of_overrides(&changed);
+        config
+            .ineffective_keys(&given, Use::Stepper)
+            .iter()
+            .map(|w| {
+                let text = w.to_string();
+                let name = |key: &str| {
+                    VARIABLES
+                        .iter()
+                        .find(|v| config_key(v.role) == Some(key))
+                        .map(|v| v.name)
+                };
+                let others: Vec<String> = VARIABLES
+                    .iter()
+                    .filter_map(|v| config_key(v.role).map(|key| (key, v.name)))
+                    .filter(|&(key, _)| key != w.key && w.reason.contains(key))
+                    .map(|(key, name)| format!("{key} is the parameter {name}"))
+                    .collect();
+                let others = match others.is_empty() {
+                    true => String::new(),
+                    false => format!(" (in this FMU {})", others.join(", ")),
+                };
+                format!("parameter {}: {text}{others}", name(w.key).unwrap_or(w.key))
+            })
+            .collect()
     }
 
     /// Checks the parameters that are not configuration keys.
@@ -75,8 +94,8 @@ impl Instance {
     }
 
     /// Builds the simulation if there is none or a parameter changed ([`Simulation::build`], the
-    /// set-up every front end shares); errors are logged, and so is the mesh-size warning of a
-    /// `mesh_max_size` that bounds no element.
+    /// set-up every front end shares); errors are logged, and so are the mesh-size warning of a
+    /// `mesh_max_size` that bounds no element and the warnings for parameters without effect.
     pub(super) fn ensure_sim(&mut self) -> Result<(), Status> {
         if self.sim.is_some() && !self.stale {
             return Ok(());
@@ -105,6 +124,9 @@ impl Instance {
                     sim.theta()
                 ));
                 if let Some(w) = mesh_warning {
+                    self.warning(&w);
+                }
+                for w in self.ineffective(&sim.model.config) {
                     self.warning(&w);
                 }
                 self.sim = Some(sim);
@@ -174,4 +196,44 @@ impl Instance {
         }
         Status::Ok
     }
+}
+
+/// The configuration key a parameter of this role sets.
+fn config_key(role: Role) -> Option<&'static str> {
+    match role {
+        Role::Config(key) => Some(key),
+        Role::ThetaStart => Some("initial.angle_deg"),
+        Role::MaxCutbacks => Some("solver.max_cutbacks"),
+        Role::WallKind => Some("wall.kind"),
+        Role::ModelKind => Some("model.kind"),
+        _ => None,
+    }
+}
+
+/// The `key=value` override a parameter of this role and kind with `value` stands for (`None`:
+/// no configuration key).
+fn assignment(role: Role, kind: Kind, value: f64) -> Option<String> {
+    Some(match role {
+        Role::Config(key) => match kind {
+            Kind::Real => format!("{key}={value:?}"),
+            _ => format!("{key}={}", value as i64),
+        },
+        Role::ThetaStart => format!("initial.angle_deg={:?}", value.to_degrees()),
+        Role::MaxCutbacks => match value as i64 {
+            -1 => "solver.max_cutbacks=\"auto\"".to_string(),
+            count => format!("solver.max_cutbacks={count}"),
+        },
+        Role::WallKind => match value as i64 {
+            0 => "wall.kind=\"none\"".to_string(),
+            1 => "wall.kind=\"rigid\"".to_string(),
+            2 => "wall.kind=\"deformable\"".to_string(),
+            other => format!("wall.kind={other}"),
+        },
+        Role::ModelKind => match value as i64 {
+            0 => "model.kind=\"full\"".to_string(),
+            1 => "model.kind=\"reduced\"".to_string(),
+            other => format!("model.kind={other}"),
+        },
+        _ => return None,
+    })
 }

@@ -57,9 +57,12 @@ class Simulation:
         Simulation(**{"material.youngs_modulus": 1e7, "initial.angle_deg": 45})
 
     A value of ``None`` leaves a key as it is. An unknown key raises :class:`UnknownKeyError` (a
-    ``KeyError`` and a ``ValueError``) naming it and the keys allowed there, a bad value
-    ``ValueError`` with the library's message naming the key (``pendulum-fem init`` writes every
-    key with its unit), a file that cannot be read its ``OSError`` (``FileNotFoundError``).
+    ``KeyError`` and a ``ValueError``) naming it and the keys allowed there; bad values raise
+    ``ValueError`` with the library's message listing every mistake, each naming its key
+    (``pendulum-fem init`` writes every key with its unit); a file that cannot be read raises its
+    ``OSError`` (``FileNotFoundError``). A key given that has no effect here (``torque.amplitude``
+    without a torque profile, the ``[output]`` keys, which a Simulation does not write) raises a
+    ``UserWarning`` naming it and what would make it act.
     """
 
     def __init__(self, config: Union[str, "os.PathLike[str]", Mapping[str, Any], None] = None, **overrides: Any) -> None: ...

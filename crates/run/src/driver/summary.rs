@@ -35,8 +35,9 @@ pub struct RunSummary {
     pub factorizations: usize,
     /// Step cut-backs.
     pub cutbacks: usize,
-    /// Warnings the run raised (each also printed to stderr when raised): the reduced body's
-    /// when it does not apply ([`pendulum_fem_core::reduced::validity`]).
+    /// Warnings of the run: those about its configuration ([`super::RunOptions::warnings`]), then
+    /// those it raised (each also printed to stderr when raised): the reduced body's when it does
+    /// not apply ([`pendulum_fem_core::reduced::validity`]).
     pub warnings: Vec<String>,
     /// A reduced body's largest error estimate over the run and its time `(η, t)`.
     pub error_estimate: Option<(f64, f64)>,
