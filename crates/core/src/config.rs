@@ -45,7 +45,7 @@ mod unknown_key;
 mod wall;
 
 pub use geometry::{Geometry, MeshConfig, MeshSizes};
-pub use given::{GivenKey, GivenKeys, Place};
+pub use given::{leaf_keys, GivenKey, GivenKeys, Place};
 pub use ineffective::{Ineffective, Use};
 pub use initial::{Initial, InitialAcceleration, InitialElastic};
 pub use material::{Gravity, Material, MaterialModel, Plane};

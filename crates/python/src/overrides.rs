@@ -105,21 +105,6 @@ fn first_unknown_key(keys: impl IntoIterator<Item = String>) -> Option<(String, 
     })
 }
 
-/// The dotted keys of the leaves of a TOML table (the keys a configuration file sets).
-fn file_keys(prefix: &str, table: &toml::Table, out: &mut Vec<String>) {
-    for (k, v) in table {
-        let key = if prefix.is_empty() {
-            k.clone()
-        } else {
-            format!("{prefix}.{k}")
-        };
-        match v {
-            toml::Value::Table(t) => file_keys(&key, t, out),
-            _ => out.push(key),
-        }
-    }
-}
-
 /// Loads a configuration as the CLI does (`--config FILE --set …`), with the keys the file and the
 /// overrides gave. A file that cannot be opened is the `OSError` of its cause
 /// (`FileNotFoundError`); an unknown key, in the file or the overrides, an `UnknownKeyError`
@@ -135,14 +120,11 @@ pub(crate) fn load_config(path: Option<std::path::PathBuf>, overrides: &[String]
         if !pendulum_fem_core::config::reports_an_unknown_key(message) {
             return py_err(e);
         }
-        let mut keys = Vec::new();
-        if let Some(table) = path
+        let mut keys = path
             .as_ref()
             .and_then(|p| std::fs::read_to_string(p).ok())
             .and_then(|text| text.parse::<toml::Table>().ok())
-        {
-            file_keys("", &table, &mut keys);
-        }
+            .map_or_else(Vec::new, |table| pendulum_fem_core::config::leaf_keys(&table));
         keys.extend(
             overrides
                 .iter()

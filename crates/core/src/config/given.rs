@@ -102,6 +102,14 @@ impl GivenKeys {
     }
 }
 
+/// The dotted paths of the leaves of `table` (arrays are leaves): the keys a configuration file
+/// sets, in the table's order.
+pub fn leaf_keys(table: &toml::Table) -> Vec<String> {
+    let mut keys = Vec::new();
+    leaves(table, "", &mut |path, _| keys.push(path));
+    keys
+}
+
 /// Calls `f` with the dotted path and value of every leaf of `table` (arrays are leaves).
 fn leaves(table: &toml::Table, prefix: &str, f: &mut dyn FnMut(String, &toml::Value)) {
     for (k, v) in table {
