@@ -88,9 +88,23 @@ fn a_torque_amplitude_without_a_profile_warns_naming_the_profile_key_and_changes
         results("set"),
         "the results are those of the defaults"
     );
-    // the run keeps it with its warnings: in status.json and in the summary it prints
+    // the run keeps it with its warnings: in status.json, and in the summary it prints without
+    // --quiet
     assert_eq!(status_of(&dir.join("set")).warnings, [warning]);
-    assert!(String::from_utf8_lossy(&set.stdout).contains(warning));
+    let loud = common::bin()
+        .args(["run", "--out"])
+        .arg(dir.join("loud"))
+        .args(common::NO_PICTURES)
+        .args(["--set", "output.paraview=false", "--set", "time.end=0.05"])
+        .args(["--set", "torque.amplitude=2"])
+        .output()
+        .unwrap();
+    assert!(loud.status.success(), "{}", stderr(&loud));
+    assert!(
+        String::from_utf8_lossy(&loud.stdout).contains(warning),
+        "{}",
+        String::from_utf8_lossy(&loud.stdout)
+    );
     assert!(status_of(&dir.join("plain")).warnings.is_empty());
 }
 

@@ -76,6 +76,8 @@ fn a_stress_that_overflows_mid_run_stops_it_before_that_steps_row_and_frame() {
         "torque.start=0.3".into(),
         format!("torque.amplitude={s:e}"),
         "time.end=0.5".into(),
+        // a frame every step: the last one is the last step kept
+        "output.every=1".into(),
     ];
     let dir = common::scratch("overflow");
     let out = dir.join("out");

@@ -80,16 +80,24 @@ pub(crate) fn unknown_key(key: &str, section: &str, allowed: &[String]) -> PyErr
     })
 }
 
-/// A message of the library without the command line's framing: its `--set` (Python's overrides
-/// are keywords and dicts).
+/// A message of the library without the command line's framing: its `--set`, as a prefix or as
+/// the place of a mistake: Python's overrides are keywords and dicts.
 fn in_python_words(message: String) -> String {
-    match message
+    let mut message = match message
         .strip_prefix("--set: ")
         .or_else(|| message.strip_prefix("--set "))
     {
         Some(rest) => rest.to_string(),
         None => message,
+    };
+    // `… (in --set key=value)` after a mistake, `key in --set key=value: …` before one
+    for (place, end, keep) in [(" (in --set ", ")", 0), (" in --set ", ": ", 2)] {
+        while let Some(start) = message.find(place) {
+            let Some(len) = message[start..].find(end) else { break };
+            message.replace_range(start..start + len + end.len() - keep, "");
+        }
     }
+    message
 }
 
 /// An `OSError` with the cause's `errno`, its text and the file, which Python makes the subclass
