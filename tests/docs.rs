@@ -1,7 +1,7 @@
 //! The documentation runs as written. Every ```` ```sh ````, ```` ```bash ````, ```` ```python ````
-//! and ```` ```toml ```` block of `README.md`, `crates/*/README.md` and `docs/*.md` is run in a fresh
-//! folder of its own, and fails this test if it exits non-zero, prints nothing or takes longer
-//! than [`TIMEOUT`]:
+//! and ```` ```toml ```` block of `README.md`, `crates/*/README.md` and every markdown file under
+//! `docs/` (the book: `docs/src/**/*.md`) is run in a fresh folder of its own, and fails this test
+//! if it exits non-zero, prints nothing or takes longer than [`TIMEOUT`]:
 //!
 //! * shell blocks with `bash -e -o pipefail` (a failing line fails the block), Python blocks with
 //!   the interpreter of `scripts/test-env` (its environment holds fmpy, syssimx, pandas, Dask and
@@ -144,7 +144,8 @@ fn marker_before(lines: &[&str], fence: usize) -> Result<Marker, String> {
     ))
 }
 
-/// The markdown files whose blocks are run: `README.md`, `crates/*/README.md`, `docs/*.md`.
+/// The markdown files whose blocks are run: `README.md`, `crates/*/README.md` and every `.md`
+/// under `docs/` (the book's chapters, `docs/src/**/*.md`).
 fn documentation(root: &Path) -> Vec<PathBuf> {
     let mut files = vec![root.join("README.md")];
     let mut more = Vec::new();
@@ -154,15 +155,22 @@ fn documentation(root: &Path) -> Vec<PathBuf> {
             more.push(readme);
         }
     }
-    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "md") {
-            more.push(path);
-        }
-    }
+    markdown_under(&root.join("docs"), &mut more);
     more.sort();
     files.extend(more);
     files
+}
+
+/// Every `.md` file in `dir` and its subfolders, appended to `out`.
+fn markdown_under(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            markdown_under(&path, out);
+        } else if path.extension().is_some_and(|e| e == "md") {
+            out.push(path);
+        }
+    }
 }
 
 /// A fresh folder that looks like a checkout: links to the repository's entries, and `target/`
