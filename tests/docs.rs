@@ -499,7 +499,7 @@ fn every_documentation_block_runs_as_written_or_says_why_not() {
                 _ => "sh",
             };
             std::fs::write(dir.join(format!("block.{ext}")), &block.text).unwrap();
-            let mut cmd = command(&block, &dir, &python);
+            let mut cmd = command(&block, &dir, python);
             cmd.env("PATH", &path)
                 .env("VIRTUAL_ENV", venv_bin.parent().unwrap())
                 .env("MPLBACKEND", "Agg");
