@@ -41,7 +41,7 @@ enum Command {
     /// Measure speed and memory (see `pendulum-fem bench --help`).
     Bench(BenchArgs),
     /// Run a parameter study: one run per case, in parallel or as job-array tasks, and a summary
-    /// table DIR/summary.csv with figures (docs/sweep.md).
+    /// table DIR/summary.csv with figures (docs/src/studies.md).
     Sweep(SweepArgs),
     /// Write a commented configuration file listing every key, its default and its unit.
     Init {
@@ -122,7 +122,7 @@ struct SweepArgs {
     #[arg(long)]
     zip: bool,
     /// A sweep file (TOML): `[vary]` (KEY = "VALUES" or a list) or `[[case]]` tables, and optional
-    /// `config`, `set`, `zip` (see docs/sweep.md).
+    /// `config`, `set`, `zip` (see docs/src/studies.md).
     #[arg(long, value_name = "FILE")]
     file: Option<PathBuf>,
     /// Sweep folder: DIR/cases.csv, DIR/case-NNNN/, DIR/summary.csv, DIR/summary_*.png.

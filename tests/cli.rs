@@ -582,7 +582,7 @@ fn ngsolve_theta(name: &str) -> Vec<(f64, f64)> {
 
 #[test]
 fn the_tutorials_exact_reproduction_runs_through_the_cli_with_the_watchdog_on_and_matches_ngsolve() {
-    // The README's way to reproduce the tutorial: its Newmark rule and its zero initial
+    // The book's way to reproduce the tutorial (docs/src/basics.md): its Newmark rule and its zero initial
     // acceleration, every other setting the default (the energy watchdog at 0.01 included). The
     // zero start loses 1.2e-4 J in its first step by construction; judged against the energy the
     // swing has available (3.75 J) that is 3.3e-5, not a divergence.

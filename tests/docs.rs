@@ -1,7 +1,7 @@
 //! The documentation runs as written. Every ```` ```sh ````, ```` ```bash ````, ```` ```python ````
-//! and ```` ```toml ```` block of `README.md`, `crates/*/README.md` and `docs/*.md` is run in a fresh
-//! folder of its own, and fails this test if it exits non-zero, prints nothing or takes longer
-//! than [`TIMEOUT`]:
+//! and ```` ```toml ```` block of `README.md`, `crates/*/README.md` and every markdown file under
+//! `docs/` (the book: `docs/src/**/*.md`) is run in a fresh folder of its own, and fails this test
+//! if it exits non-zero, prints nothing or takes longer than [`TIMEOUT`]:
 //!
 //! * shell blocks with `bash -e -o pipefail` (a failing line fails the block), Python blocks with
 //!   the interpreter of `scripts/test-env` (its environment holds fmpy, syssimx, pandas, Dask and
@@ -145,7 +145,8 @@ fn marker_before(lines: &[&str], fence: usize) -> Result<Marker, String> {
     ))
 }
 
-/// The markdown files whose blocks are run: `README.md`, `crates/*/README.md`, `docs/*.md`.
+/// The markdown files whose blocks are run: `README.md`, `crates/*/README.md` and every `.md`
+/// under `docs/` (the book's chapters, `docs/src/**/*.md`).
 fn documentation(root: &Path) -> Vec<PathBuf> {
     let mut files = vec![root.join("README.md")];
     let mut more = Vec::new();
@@ -155,15 +156,22 @@ fn documentation(root: &Path) -> Vec<PathBuf> {
             more.push(readme);
         }
     }
-    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "md") {
-            more.push(path);
-        }
-    }
+    markdown_under(&root.join("docs"), &mut more);
     more.sort();
     files.extend(more);
     files
+}
+
+/// Every `.md` file in `dir` and its subfolders, appended to `out`.
+fn markdown_under(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            markdown_under(&path, out);
+        } else if path.extension().is_some_and(|e| e == "md") {
+            out.push(path);
+        }
+    }
 }
 
 /// A fresh folder that looks like a checkout: links to the repository's entries, and `target/`
@@ -271,6 +279,187 @@ fn run_block(mut cmd: Command) -> Result<String, String> {
     }
 }
 
+/// The links of `markdown` outside fenced blocks and code spans, as `(line, target)`: the
+/// targets of `[text](target)` and `![alt](target)`.
+fn links(markdown: &str) -> Vec<(usize, String)> {
+    let mut out = Vec::new();
+    let (mut fenced, mut code) = (false, false);
+    for (n, line) in markdown.lines().enumerate() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        // a code span, which may run on over the lines of its paragraph, holds no link:
+        // `[a](b)` in backticks is text
+        if line.trim().is_empty() {
+            code = false;
+        }
+        let mut text = String::new();
+        for c in line.chars() {
+            if c == '`' {
+                code = !code;
+            } else if !code {
+                text.push(c);
+            }
+        }
+        let mut rest = text.as_str();
+        while let Some(i) = rest.find("](") {
+            let after = &rest[i + 2..];
+            let Some(end) = after.find(')') else { break };
+            out.push((n + 1, after[..end].trim().to_string()));
+            rest = &after[end + 1..];
+        }
+    }
+    out
+}
+
+/// The anchors of the headings of `markdown`, as GitHub and mdBook make them: the heading's text
+/// without its code spans' backticks and its links' targets, lower case, every character but
+/// letters, digits, `_`, `-` and spaces dropped, spaces made `-`; a repeated one gets `-1`, `-2`, ….
+fn anchors(markdown: &str) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    let mut fenced = false;
+    for line in markdown.lines() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        let Some(heading) = line.strip_prefix('#').filter(|_| !fenced) else {
+            continue;
+        };
+        let heading = heading.trim_start_matches('#');
+        if !heading.starts_with(' ') {
+            continue;
+        }
+        // [text](target) counts as its text
+        let mut text = String::new();
+        let mut rest = heading.trim();
+        while let Some(i) = rest.find("](") {
+            text.push_str(&rest[..i]);
+            rest = rest[i + 2..].split_once(')').map_or("", |(_, r)| r);
+        }
+        text.push_str(rest);
+        let slug: String = text
+            .to_lowercase()
+            .chars()
+            .filter(|c| c.is_alphanumeric() || matches!(c, '_' | '-' | ' '))
+            .map(|c| if c == ' ' { '-' } else { c })
+            .collect();
+        let repeats = out
+            .iter()
+            .filter(|a| {
+                *a == &slug
+                    || a.strip_prefix(&format!("{slug}-"))
+                        .is_some_and(|n| n.parse::<u32>().is_ok())
+            })
+            .count();
+        out.push(if repeats == 0 {
+            slug
+        } else {
+            format!("{slug}-{repeats}")
+        });
+    }
+    out
+}
+
+/// The broken relative links of the markdown file `file` (`text` its content): a target that is
+/// no file or folder, or an anchor that is no heading of the markdown file it names.
+fn broken_links(file: &Path, text: &str) -> Vec<String> {
+    let mut broken = Vec::new();
+    for (line, target) in links(text) {
+        if target.contains("://") || target.starts_with("mailto:") {
+            continue;
+        }
+        let (path, anchor) = match target.split_once('#') {
+            Some((path, anchor)) => (path, Some(anchor)),
+            None => (target.as_str(), None),
+        };
+        let resolved = if path.is_empty() {
+            file.to_path_buf()
+        } else {
+            file.parent().unwrap().join(path)
+        };
+        if !resolved.exists() {
+            broken.push(format!("line {line}: {target}: no such file"));
+            continue;
+        }
+        let Some(anchor) = anchor else { continue };
+        if resolved.extension().is_some_and(|e| e == "md") {
+            let markdown = std::fs::read_to_string(&resolved).unwrap();
+            if !anchors(&markdown).iter().any(|a| a == anchor) {
+                broken.push(format!("line {line}: {target}: no heading #{anchor} there"));
+            }
+        }
+    }
+    broken
+}
+
+#[test]
+fn every_chapter_in_the_books_summary_exists_and_every_chapter_is_in_it() {
+    let src = common::root().join("docs/src");
+    let summary = std::fs::read_to_string(src.join("SUMMARY.md")).unwrap();
+    let listed: Vec<String> = links(&summary).into_iter().map(|(_, t)| t).collect();
+    assert!(listed.len() >= 10, "SUMMARY.md lists {} chapters", listed.len());
+    for chapter in &listed {
+        assert!(
+            !chapter.contains('#') && src.join(chapter).is_file(),
+            "docs/src/SUMMARY.md lists {chapter}, which is no file of docs/src"
+        );
+    }
+    let mut chapters = Vec::new();
+    markdown_under(&src, &mut chapters);
+    for chapter in chapters {
+        let rel = chapter.strip_prefix(&src).unwrap().display().to_string();
+        assert!(
+            rel == "SUMMARY.md" || listed.contains(&rel),
+            "docs/src/{rel} is not in docs/src/SUMMARY.md, so the book leaves it out"
+        );
+    }
+}
+
+#[test]
+fn every_relative_link_of_the_documentation_reaches_a_file_and_its_heading() {
+    let root = common::root();
+    let mut broken = Vec::new();
+    for file in documentation(root) {
+        let rel = file.strip_prefix(root).unwrap().display().to_string();
+        let text = std::fs::read_to_string(&file).unwrap();
+        broken.extend(broken_links(&file, &text).into_iter().map(|b| format!("{rel}: {b}")));
+    }
+    assert!(broken.is_empty(), "broken links:\n  {}", broken.join("\n  "));
+}
+
+#[test]
+fn links_and_anchors_are_read_as_github_and_mdbook_make_them() {
+    let md =
+        "# The `[model]` section\n\n## Full model at dt = 1 ms\n\n## A [link](x.md) in it\n\n## Again\n\n## Again\n\n\
+              See [a](a.md), ![b](img/b.png) and `[not](code.md)`.\n```sh\n# no heading\necho [no](link.md)\n```\n\
+              A `span\nover [two](lines.md)` and [after](c.md).\n";
+    assert_eq!(
+        anchors(md),
+        [
+            "the-model-section",
+            "full-model-at-dt--1-ms",
+            "a-link-in-it",
+            "again",
+            "again-1"
+        ]
+    );
+    let found: Vec<String> = links(md).into_iter().map(|(_, t)| t).collect();
+    assert_eq!(found, ["x.md", "a.md", "img/b.png", "c.md"]);
+    let dir = common::scratch("links");
+    std::fs::write(dir.join("a.md"), "# Here\n").unwrap();
+    let page = dir.join("page.md");
+    let text = "[ok](a.md#here) [no file](b.md) [no heading](a.md#there) [web](https://example.org/x)\n";
+    let broken = broken_links(&page, text);
+    assert_eq!(broken.len(), 2, "{broken:?}");
+    assert!(broken[0].contains("b.md: no such file"), "{broken:?}");
+    assert!(broken[1].contains("no heading #there"), "{broken:?}");
+}
+
 #[test]
 fn every_documentation_block_runs_as_written_or_says_why_not() {
     let root = common::root();
@@ -312,7 +501,7 @@ fn every_documentation_block_runs_as_written_or_says_why_not() {
                 _ => "sh",
             };
             std::fs::write(dir.join(format!("block.{ext}")), &block.text).unwrap();
-            let mut cmd = command(&block, &dir, &python);
+            let mut cmd = command(&block, &dir, python);
             cmd.env("PATH", &path)
                 .env("VIRTUAL_ENV", venv_bin.parent().unwrap())
                 .env("MPLBACKEND", "Agg");

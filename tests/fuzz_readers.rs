@@ -3,7 +3,7 @@
 //! valid files or arbitrary input, returns a value or an error that names its source, and never
 //! panics. These run 300 cases each in seconds with the suite; a long campaign sets the number of
 //! cases per test with the environment variable `FUZZ_CASES`, e.g.
-//! `FUZZ_CASES=2000000 cargo test --release --test suite fuzz_readers::` (see the README).
+//! `FUZZ_CASES=2000000 cargo test --release --test suite fuzz_readers::` (see docs/src/development.md).
 
 use crate::common;
 use common::msh;

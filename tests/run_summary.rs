@@ -205,7 +205,7 @@ fn the_largest_von_mises_of_csv_and_summary_is_the_largest_value_of_the_frames_f
     })
     .unwrap();
     assert_eq!(summary.von_mises_max, largest_shown);
-    // the default swing's largest stress, at the hinge corners (README)
+    // the default swing's largest stress, where the rod meets the ring (docs/src/outputs.md)
     assert!((8e4..1e5).contains(&largest_shown), "{largest_shown:.4e} Pa");
 }
 

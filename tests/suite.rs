@@ -11,6 +11,7 @@ mod common;
 mod bodies;
 mod checkpoint;
 mod cli;
+mod config_reference;
 mod contact;
 mod docs;
 mod energy_momentum;

@@ -1,8 +1,8 @@
 //! The head strikes a rigid wall (the contact tutorial): energy through every impact, the rebound,
 //! the impact's times, penetration and impulse, and the tutorial's penalty scheme that gains
 //! energy. The impact's expected times, penetration and rebounds are the converged values of
-//! fine-step NGSolve runs of the contact tutorial (steps of 6e-6 s near the wall) that `README.md`
-//! quotes ("Against converged NGSolve references"); those runs' files are not in the repository,
+//! fine-step NGSolve runs of the contact tutorial (steps of 6e-6 s near the wall) that
+//! `docs/src/contact.md` quotes (its "Accuracy"); those runs' files are not in the repository,
 //! and the numbers are written out where they are asserted. The impulse is checked against the
 //! exact rigid inertia (`tests/data/README.md`).
 

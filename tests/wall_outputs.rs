@@ -495,10 +495,10 @@ fn a_wall_runs_summary_reports_impacts_not_a_period() {
         "{impacts:?} vs {e:?}"
     );
     // the energy-consistent contact returns the swing's energy to it but the part left in elastic
-    // vibration (rebound 19.9996° of 20°, README), so the swing's e is 1 to 1e-5; the proxy rate ω
+    // vibration (rebound 19.9996° of 20°, docs/src/contact.md), so the swing's e is 1 to 1e-5; the proxy rate ω
     // at the impact's end carries that vibration too: within 5e-3 of 1
     assert!((mean - 1.0).abs() < 5e-3, "restitution {mean}");
-    // the rebound: 19.9996° for the converged reference (README); the records at dt = 0.01 s
+    // the rebound: 19.9996° for the converged reference (docs/src/contact.md); the records at dt = 0.01 s
     // sample the peak up to Δt/2 from it, ½ |α| (Δt/2)² = 0.0105° below (|α| = ω₀² sin 20° =
     // 14.7 rad/s², ω₀ = 2π/0.958 s), never above it
     let rebound = impacts.rebound_angle.unwrap().to_degrees();
@@ -618,7 +618,7 @@ fn every_impact_is_resolved_in_impacts_csv_so_identical_impacts_look_identical()
         let inside: Vec<usize> = (0..h.time.len())
             .filter(|&i| h.time[i] >= start && h.time[i] <= end)
             .collect();
-        // sub-steps of τ/10 = 72 µs over an impact of 2.1 ms (README): about 29 rows
+        // sub-steps of τ/10 = 72 µs over an impact of 2.1 ms (docs/src/contact.md): about 29 rows
         assert!(
             inside.len() >= 20,
             "{} sub-step rows in the impact {start}–{end}",

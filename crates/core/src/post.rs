@@ -57,8 +57,8 @@ impl StressRecovery {
     /// Largest nodal von Mises stress \[Pa\]: the maximum over the nodes of the von Mises stress
     /// averaged over the elements that share the node, the very field the frames show (ParaView,
     /// animations, viewer), so every output reports one largest value. (The largest unaveraged
-    /// element-node value is higher where the stress jumps between elements: 1.19e5 against
-    /// 9.07e4 Pa at the hinge corners of the default run; that jump is discretisation error.)
+    /// element-node value is higher where the stress jumps between elements; that jump is
+    /// discretisation error.)
     pub fn max_von_mises(&self, material: &Material, u: &[f64]) -> f64 {
         use rayon::prelude::*;
         // element-node values in parallel, summed per node in element order (deterministic)
