@@ -162,6 +162,11 @@ fn allowed_values(section: &str, key: &str, value: &str) -> Option<String> {
         };
         let e = e.to_string();
         let e = e.lines().next().unwrap_or("").trim();
+        // without the place the program adds to a mistake (`(in --set key=value)`): the probe's
+        let e = match e.rfind(" (in --set ") {
+            Some(at) if e.ends_with(')') => e[..at].trim_end(),
+            _ => e,
+        };
         let allowed = if let Some((_, choices)) = e
             .split_once("unknown variant")
             .and_then(|(_, m)| m.split_once(", expected "))
@@ -237,8 +242,12 @@ fn reference(text: &str) -> Result<String, Vec<String>> {
                     "{full}: the file shows {}, the program's default is {d:?}",
                     e.value
                 )),
+                // commented out with its default: it acts only with another key (the program
+                // warns when it is set without it)
+                (false, Some(d)) if shown.as_ref() == Some(d) => {}
                 (false, Some(d)) => problems.push(format!(
-                    "{full}: commented out in the file as unset, but the program's default is {d}"
+                    "{full}: commented out in the file as {}, but the program's default is {d}",
+                    e.value
                 )),
                 (false, None) => {
                     if let Err(err) = Config::load(None, &[format!("{full}={}", e.value)]) {
@@ -268,7 +277,8 @@ fn reference(text: &str) -> Result<String, Vec<String>> {
          read is an error naming the nearest one, and a value outside what it allows an error naming \
          the key, before anything runs.\n\n\
          Each table lists a section's keys in the file's order: the default (*unset*: the key is \
-         commented out in the file, with an example value), what the program allows (its own message \
+         commented out in the file, with an example value; a default marked \"acts only with another \
+         key\" is commented out too, and setting it without that key is warned about), what the program allows (its own message \
          for a value outside, with the other keys at their defaults where the bound depends on them, and \
          `[wall]`'s with `wall.kind = \"deformable\"`, which reads them) and the file's comment (unit \
          and meaning).\n\n",
@@ -285,10 +295,11 @@ fn reference(text: &str) -> Result<String, Vec<String>> {
         }
         page.push_str("| key | default | allowed | unit and meaning |\n|---|---|---|---|\n");
         for e in &s.entries {
-            let default = if e.set {
-                format!("`{}`", e.value)
-            } else {
-                format!("*unset* (e.g. `{}`)", e.value)
+            let has_default = defaults.get(&s.name).and_then(|t| t.get(&e.key)).is_some();
+            let default = match (e.set, has_default) {
+                (true, _) => format!("`{}`", e.value),
+                (false, true) => format!("`{}` (acts only with another key)", e.value),
+                (false, false) => format!("*unset* (e.g. `{}`)", e.value),
             };
             let allowed = allowed_values(&s.name, &e.key, &e.value).unwrap_or_else(|| "any".into());
             page.push_str(&format!(
